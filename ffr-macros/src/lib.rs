@@ -1,1 +1,1 @@
-//! placeholder
+//! The `#[flex_body]` attribute (see the `ffr` crate).

@@ -58,6 +58,22 @@ pub struct Invariants {
 }
 
 impl Invariants {
+    /// All-zero invariants of a body of dimension `dim` with `nf` elastic
+    /// coordinates (generated code fills in the non-zero entries).
+    pub fn zeros(dim: usize, nf: usize) -> Self {
+        Self {
+            dim,
+            mass: 0.0,
+            s_t0: Vector3::zeros(),
+            s_bar: Matrix3xX::zeros(nf),
+            s_kl: std::array::from_fn(|_| std::array::from_fn(|_| DMatrix::zeros(nf, nf))),
+            i_kl: std::array::from_fn(|_| std::array::from_fn(|_| DVector::zeros(nf))),
+            theta: Matrix3::zeros(),
+            m_ff: DMatrix::zeros(nf, nf),
+            k_ff: DMatrix::zeros(nf, nf),
+        }
+    }
+
     /// Number of elastic coordinates.
     pub fn nf(&self) -> usize {
         self.m_ff.nrows()
@@ -117,6 +133,28 @@ pub trait FlexBody {
     fn stiffening(&self, q_f: &[f64], force: &mut [f64], tangent: Option<&mut DMatrix<f64>>) {
         let _ = (q_f, force, tangent);
     }
+
+    /// The stiffening energy `U_nl(q_f)` (zero without stiffening).
+    ///
+    /// Default: `U_nl(q) = ∫₀¹ ∂U_nl/∂q(s q) · q ds`, by two-point Gauss–Legendre
+    /// quadrature on `[0, 1]` — exact because `U_nl` is a polynomial of degree
+    /// at most 4 with `U_nl(0) = 0`, so the integrand is a cubic in `s`.
+    fn stiffening_energy(&self, q_f: &[f64]) -> f64 {
+        if !self.has_stiffening() {
+            return 0.0;
+        }
+        let d = 0.5 / 3f64.sqrt();
+        let mut energy = 0.0;
+        let mut qs = vec![0.0; q_f.len()];
+        let mut f = vec![0.0; q_f.len()];
+        for s in [0.5 - d, 0.5 + d] {
+            qs.iter_mut().zip(q_f).for_each(|(a, b)| *a = s * b);
+            f.iter_mut().for_each(|x| *x = 0.0);
+            self.stiffening(&qs, &mut f, None);
+            energy += 0.5 * f.iter().zip(q_f).map(|(a, b)| a * b).sum::<f64>();
+        }
+        energy
+    }
 }
 
 /// A [`FlexBody`] whose layout is fixed at compile time (generated code).
@@ -168,7 +206,12 @@ impl FlexBody for InvariantBody {
     fn inertia_terms(&self, q_f: &[f64], out: &mut InertiaTerms) {
         let inv = &self.invariants;
         let nf = inv.nf();
-        assert_eq!(q_f.len(), nf, "q_f has {} entries, the body has {nf} elastic coordinates", q_f.len());
+        assert_eq!(
+            q_f.len(),
+            nf,
+            "q_f has {} entries, the body has {nf} elastic coordinates",
+            q_f.len()
+        );
         let q = DVector::from_column_slice(q_f);
         out.s_t = inv.s_t0 + &inv.s_bar * &q;
         let mut u = Matrix3::zeros();

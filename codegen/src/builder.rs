@@ -1,0 +1,1 @@
+//! `build.rs` integration in the style of `prost-build` (to be written).

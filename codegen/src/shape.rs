@@ -1,0 +1,430 @@
+//! Shape descriptions: the element shape-function matrix `S` of a flexible
+//! body, read from TOML (built-in `beam2`, `beam3` go through the same parser).
+//!
+//! ```toml
+//! name = "bar2"
+//! dimension = 2                      # 2: rows x, y; 3: rows x, y, z
+//! coordinates = [                    # one per column of S
+//!   { name = "u1", node = 0, kind = "ux" },   # node 0 = element start, 1 = end
+//!   { name = "u2", node = 1, kind = "ux" },
+//! ]
+//! [S]                                # rows of S, polynomials in xi, eta, zeta, l
+//! x = ["1 - xi", "xi"]
+//! y = ["0", "0"]
+//! ```
+
+use crate::error::{Error, Location};
+use crate::expr::parse_poly;
+use crate::poly::{Poly, Sym};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::Path;
+use toml::Spanned;
+
+/// What an elastic coordinate is: a translation or rotation of its node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Kind {
+    /// Translation along body x.
+    Ux,
+    /// Translation along body y.
+    Uy,
+    /// Translation along body z.
+    Uz,
+    /// Rotation about body x (torsion).
+    Rx,
+    /// Rotation about body y.
+    Ry,
+    /// Rotation about body z.
+    Rz,
+}
+
+impl Kind {
+    /// All kinds with their names.
+    pub const ALL: [(Kind, &'static str); 6] = [
+        (Kind::Ux, "ux"),
+        (Kind::Uy, "uy"),
+        (Kind::Uz, "uz"),
+        (Kind::Rx, "rx"),
+        (Kind::Ry, "ry"),
+        (Kind::Rz, "rz"),
+    ];
+
+    /// The kind's name as written in shape files and labels.
+    pub fn name(self) -> &'static str {
+        Kind::ALL
+            .iter()
+            .find(|(k, _)| *k == self)
+            .map(|(_, n)| *n)
+            .unwrap_or("?")
+    }
+
+    /// Whether the kind exists in a planar (x–y) shape.
+    pub fn is_planar(self) -> bool {
+        matches!(self, Kind::Ux | Kind::Uy | Kind::Rz)
+    }
+
+    /// Whether this is a translation.
+    pub fn is_translation(self) -> bool {
+        matches!(self, Kind::Ux | Kind::Uy | Kind::Uz)
+    }
+}
+
+impl fmt::Display for Kind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// One elastic coordinate of an element (a column of `S`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Coordinate {
+    /// Name in the shape file (e.g. `v1`).
+    pub name: String,
+    /// End node: 0 at `ξ = 0`, 1 at `ξ = 1`.
+    pub node: u8,
+    /// Which nodal quantity it is.
+    pub kind: Kind,
+}
+
+/// A validated shape: the element `S` (dimension × n_e) with exact entries.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Shape {
+    /// Shape name.
+    pub name: String,
+    /// 2 (planar, rows x, y) or 3 (rows x, y, z).
+    pub dimension: usize,
+    /// One-line description.
+    pub description: String,
+    /// Columns of `S`.
+    pub coordinates: Vec<Coordinate>,
+    /// `rows[k][a]`: entry of row `k` (x, y, z) and column `a`.
+    pub rows: Vec<Vec<Poly>>,
+    /// Where the shape came from: `built-in beam3` or the file path.
+    pub origin: String,
+    /// FNV-1a hash of the source text (names the input in generated headers).
+    pub source_hash: u64,
+    /// The file the shape was read from, if any (for `rerun-if-changed`).
+    pub path: Option<std::path::PathBuf>,
+}
+
+const BUILTINS: [(&str, &str); 2] = [
+    ("beam2", include_str!("../shapes/beam2.toml")),
+    ("beam3", include_str!("../shapes/beam3.toml")),
+];
+
+/// Names of the built-in shapes.
+pub fn builtin_names() -> Vec<&'static str> {
+    BUILTINS.iter().map(|(n, _)| *n).collect()
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawShape {
+    name: Spanned<String>,
+    dimension: Spanned<i64>,
+    #[serde(default)]
+    description: String,
+    coordinates: Spanned<Vec<RawCoordinate>>,
+    #[serde(rename = "S")]
+    s: Spanned<BTreeMap<Spanned<String>, Spanned<Vec<Spanned<String>>>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCoordinate {
+    name: Spanned<String>,
+    node: Spanned<i64>,
+    kind: Spanned<String>,
+}
+
+/// FNV-1a, 64 bit: a stable hash of a shape's text for generated headers.
+pub fn fnv1a(text: &str) -> u64 {
+    text.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+impl Shape {
+    /// A built-in shape by name (`beam2`, `beam3`).
+    pub fn builtin(name: &str) -> Option<Result<Shape, Error>> {
+        BUILTINS
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(n, text)| Shape::parse(text, &format!("built-in {n}")))
+    }
+
+    /// Read a shape file.
+    pub fn from_file(path: &Path) -> Result<Shape, Error> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        let mut shape = Shape::parse(&text, &path.display().to_string())?;
+        shape.path = Some(path.to_path_buf());
+        Ok(shape)
+    }
+
+    /// A built-in name, or else a path to a shape file (relative paths
+    /// against `base`).
+    pub fn resolve(name_or_path: &str, base: Option<&Path>) -> Result<Shape, Error> {
+        if let Some(s) = Shape::builtin(name_or_path) {
+            return s;
+        }
+        let looks_like_path = name_or_path.ends_with(".toml")
+            || name_or_path.contains('/')
+            || name_or_path.contains('\\');
+        if !looks_like_path {
+            return Err(Error::UnknownShape {
+                name: name_or_path.to_string(),
+                known: builtin_names().join(", "),
+            });
+        }
+        let p = Path::new(name_or_path);
+        let full = match base {
+            Some(b) if p.is_relative() => b.join(p),
+            _ => p.to_path_buf(),
+        };
+        Shape::from_file(&full)
+    }
+
+    /// Parse and validate a shape description; `origin` names it in errors.
+    pub fn parse(text: &str, origin: &str) -> Result<Shape, Error> {
+        let at = |offset: usize, message: String| Error::Shape {
+            location: Location::of(origin, text, offset),
+            message,
+        };
+        let raw: RawShape = toml::from_str(text).map_err(|e| {
+            let offset = e.span().map_or(0, |s| s.start);
+            let message = e.message().trim().to_string();
+            at(offset, message)
+        })?;
+
+        let dimension = *raw.dimension.get_ref();
+        if dimension != 2 && dimension != 3 {
+            return Err(at(
+                raw.dimension.span().start,
+                format!("dimension must be 2 (planar) or 3 (spatial), found {dimension}"),
+            ));
+        }
+        let dimension = dimension as usize;
+
+        let mut coordinates = Vec::new();
+        let mut seen_names = BTreeMap::new();
+        let mut seen_slots = BTreeMap::new();
+        for c in raw.coordinates.get_ref() {
+            let name = c.name.get_ref().clone();
+            if name.is_empty() {
+                return Err(at(
+                    c.name.span().start,
+                    "a coordinate name must not be empty".into(),
+                ));
+            }
+            if seen_names.insert(name.clone(), ()).is_some() {
+                return Err(at(
+                    c.name.span().start,
+                    format!("coordinate `{name}` appears twice"),
+                ));
+            }
+            let node = *c.node.get_ref();
+            if node != 0 && node != 1 {
+                return Err(at(
+                    c.node.span().start,
+                    format!("node must be 0 (element start) or 1 (element end), found {node}"),
+                ));
+            }
+            let kind_name = c.kind.get_ref().as_str();
+            let kind = Kind::ALL
+                .iter()
+                .find(|(_, n)| *n == kind_name)
+                .map(|(k, _)| *k)
+                .ok_or_else(|| {
+                    at(
+                        c.kind.span().start,
+                        format!(
+                            "unknown kind `{kind_name}`: expected one of ux, uy, uz, rx, ry, rz"
+                        ),
+                    )
+                })?;
+            if dimension == 2 && !kind.is_planar() {
+                return Err(at(
+                    c.kind.span().start,
+                    format!(
+                        "kind `{kind}` does not exist in a planar shape: expected ux, uy or rz"
+                    ),
+                ));
+            }
+            if let Some(other) = seen_slots.insert((node, kind), name.clone()) {
+                return Err(at(
+                    c.kind.span().start,
+                    format!("node {node} has two `{kind}` coordinates (`{other}` and `{name}`)"),
+                ));
+            }
+            coordinates.push(Coordinate {
+                name,
+                node: node as u8,
+                kind,
+            });
+        }
+        if coordinates.is_empty() {
+            return Err(at(
+                raw.coordinates.span().start,
+                "a shape needs at least one coordinate".into(),
+            ));
+        }
+        let kinds_at = |n: u8| -> Vec<Kind> {
+            let mut k: Vec<Kind> = coordinates
+                .iter()
+                .filter(|c| c.node == n)
+                .map(|c| c.kind)
+                .collect();
+            k.sort();
+            k
+        };
+        if kinds_at(0) != kinds_at(1) {
+            let show = |v: Vec<Kind>| v.iter().map(|k| k.name()).collect::<Vec<_>>().join(", ");
+            return Err(at(
+                raw.coordinates.span().start,
+                format!(
+                    "node 0 has kinds [{}] and node 1 has [{}]: elements share nodes, so both ends need the same kinds",
+                    show(kinds_at(0)),
+                    show(kinds_at(1))
+                ),
+            ));
+        }
+
+        let row_names = &["x", "y", "z"][..dimension];
+        let table = raw.s.get_ref();
+        for (key, _) in table.iter() {
+            if !row_names.contains(&key.get_ref().as_str()) {
+                return Err(at(
+                    key.span().start,
+                    format!(
+                        "unexpected row `{}`: a shape of dimension {dimension} has rows {}",
+                        key.get_ref(),
+                        row_names.join(", ")
+                    ),
+                ));
+            }
+        }
+        let mut rows = Vec::new();
+        for &r in row_names {
+            let (_, entries) = table
+                .iter()
+                .find(|(k, _)| k.get_ref() == r)
+                .ok_or_else(|| {
+                    at(
+                        raw.s.span().start,
+                        format!(
+                        "row `{r}` of S is missing: a shape of dimension {dimension} has rows {}",
+                        row_names.join(", ")
+                    ),
+                    )
+                })?;
+            if entries.get_ref().len() != coordinates.len() {
+                return Err(at(
+                    entries.span().start,
+                    format!(
+                        "row `{r}` has {} entries, expected {} (one per coordinate)",
+                        entries.get_ref().len(),
+                        coordinates.len()
+                    ),
+                ));
+            }
+            let mut row = Vec::new();
+            for (a, entry) in entries.get_ref().iter().enumerate() {
+                let content_start =
+                    string_content_offset(text, entry.span().start, entry.get_ref());
+                let poly = parse_poly(entry.get_ref()).map_err(|e| {
+                    at(
+                        content_start + e.offset,
+                        format!(
+                            "S[{r}][{}] (`{}`): {}",
+                            coordinates[a].name,
+                            entry.get_ref(),
+                            e.message
+                        ),
+                    )
+                })?;
+                check_entry(&poly, dimension).map_err(|m| {
+                    at(
+                        content_start,
+                        format!(
+                            "S[{r}][{}] (`{}`): {m}",
+                            coordinates[a].name,
+                            entry.get_ref()
+                        ),
+                    )
+                })?;
+                row.push(poly);
+            }
+            rows.push(row);
+        }
+        Ok(Shape {
+            name: raw.name.into_inner(),
+            dimension,
+            description: raw.description,
+            coordinates,
+            rows,
+            origin: origin.to_string(),
+            source_hash: fnv1a(text),
+            path: None,
+        })
+    }
+
+    /// Number of element coordinates `n_e`.
+    pub fn n_elem(&self) -> usize {
+        self.coordinates.len()
+    }
+
+    /// Kinds of one node in the order of the node-0 coordinates.
+    pub fn node_kinds(&self) -> Vec<Kind> {
+        self.coordinates
+            .iter()
+            .filter(|c| c.node == 0)
+            .map(|c| c.kind)
+            .collect()
+    }
+}
+
+/// An entry may use only section moments the model has: every monomial is at
+/// most linear in `η, ζ` together (products of two entries then need at most
+/// `∫y² dA`, `∫z² dA`, `∫yz dA`), and a planar shape has no `ζ`.
+fn check_entry(p: &Poly, dimension: usize) -> Result<(), String> {
+    for (m, _) in p.terms() {
+        let (a, b) = (m.exp(Sym::Eta), m.exp(Sym::Zeta));
+        if dimension == 2 && b != 0 {
+            return Err(format!(
+                "the term `{m}` uses zeta, which a planar shape does not have"
+            ));
+        }
+        if a + b > 1 {
+            let moment = match (a, b) {
+                (a, 0) => format!("∫y^{} dA", 2 * a),
+                (0, b) => format!("∫z^{} dA", 2 * b),
+                (a, b) => format!("∫y^{} z^{} dA", 2 * a, 2 * b),
+            };
+            return Err(format!(
+                "the term `{m}` needs the section moment {moment}, which the model does not have (only A, I_y = ∫z² dA, I_z = ∫y² dA): entries may be at most linear in eta and zeta"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Byte offset of a TOML string value's content, given the span start of the
+/// value (at its opening quote). Exact when the string has no escapes.
+fn string_content_offset(text: &str, start: usize, content: &str) -> usize {
+    let rest = &text[start.min(text.len())..];
+    let q = if rest.starts_with("\"\"\"") || rest.starts_with("'''") {
+        3
+    } else {
+        1
+    };
+    let body = start + q;
+    if text.get(body..body + content.len()) == Some(content) {
+        body
+    } else {
+        start
+    }
+}

@@ -1,0 +1,60 @@
+//! Errors of model assembly and time integration.
+
+/// Everything that can go wrong building or integrating a system.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// A body's data is unusable (sizes, non-finite values, dimension).
+    #[error("invalid body {body}: {reason}")]
+    InvalidBody {
+        /// Index of the body in the system (or in the call).
+        body: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A joint, force, marker or parameter is unusable.
+    #[error("invalid input: {0}")]
+    InvalidInput(String),
+    /// The (augmented) system matrix could not be factorized.
+    #[error("singular {what} at t = {t} s: check for redundant or missing constraints (a `free` reference body, a body with no mass)")]
+    Singular {
+        /// Which matrix.
+        what: &'static str,
+        /// Time.
+        t: f64,
+    },
+    /// Newton iterations of an implicit step failed.
+    #[error("step {step} at t = {t:.6} s did not converge: residual {residual:.3e} after {iterations} Newton iterations (dt = {dt:e} s); try a smaller step or more numerical damping (lower rho_inf)")]
+    NoConvergence {
+        /// Step index (0-based: the step starting at `t`).
+        step: usize,
+        /// Time at the start of the step.
+        t: f64,
+        /// Norm of the scaled residual at the last iterate.
+        residual: f64,
+        /// Newton iterations spent.
+        iterations: usize,
+        /// The step size.
+        dt: f64,
+    },
+    /// A NaN or infinity appeared in the state.
+    #[error("non-finite {what} at step {step}, t = {t:.6} s: the solution diverged; try a smaller step or lower rho_inf")]
+    NonFinite {
+        /// Which quantity.
+        what: &'static str,
+        /// Step index.
+        step: usize,
+        /// Time at the start of the step.
+        t: f64,
+    },
+    /// Initial conditions could not be made consistent with the constraints.
+    #[error(
+        "inconsistent initial conditions: constraint violation {violation:.3e} after projection"
+    )]
+    Inconsistent {
+        /// Remaining `‖Φ‖`.
+        violation: f64,
+    },
+}
+
+/// Result with this crate's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;

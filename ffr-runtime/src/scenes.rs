@@ -1,0 +1,413 @@
+//! Benchmark scenes built from bodies given as `Box<dyn FlexBody>`.
+//!
+//! Beam bodies are assumed to run along body x from the body-frame origin
+//! (node 0) to node `N`, with elastic-coordinate labels `kind_node`
+//! (`ux, uy, uz, rx, ry, rz`, see [`FlexBody::dof_labels`]).
+
+use crate::body::FlexBody;
+use crate::driver::Driver;
+use crate::error::{Error, Result};
+use crate::integrator::{GeneralizedAlpha, Integrator};
+use crate::marker::{dof_index, BodyId, Marker};
+use crate::rigid::RigidBody;
+use crate::system::{Pose, System};
+use nalgebra::{Matrix3xX, UnitQuaternion, Vector2, Vector3};
+use std::ops::ControlFlow;
+
+/// Highest node index among `kind_node` labels.
+pub fn last_node(labels: &[String]) -> Option<usize> {
+    labels
+        .iter()
+        .filter_map(|l| l.split_once('_')?.1.parse::<usize>().ok())
+        .max()
+}
+
+/// Length of a uniform beam body from its invariants: `L = 2 S_t0,x / m`.
+pub fn beam_length(body: &dyn FlexBody) -> f64 {
+    let inv = body.invariants();
+    2.0 * inv.s_t0.x / inv.mass
+}
+
+/// `S_P` of beam node `node` (translations only).
+pub fn node_shape(body: &dyn FlexBody, node: usize) -> Matrix3xX<f64> {
+    crate::marker::node_shapes(&body.dof_labels(), node).0
+}
+
+// ------------------------------------------------------------------ spin-up
+
+/// Settings of the Kane–Ryan–Banerjee spin-up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpinUp {
+    /// Final spin rate `ω_s` (rad/s).
+    pub omega_s: f64,
+    /// Ramp time `T` (s), 15 in the benchmark.
+    pub t_ramp: f64,
+    /// End time (s).
+    pub t_end: f64,
+    /// Step (s).
+    pub dt: f64,
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Geometric stiffening on (requires a body that has it).
+    pub stiffening: bool,
+}
+
+impl SpinUp {
+    /// `ω_s`, `T = 15 s`, `t_end = 20 s`, `dt = 0.01 s`, generalized-α `ρ∞ = 0.8`, stiffening on.
+    pub fn new(omega_s: f64) -> Self {
+        Self {
+            omega_s,
+            t_ramp: 15.0,
+            t_end: 20.0,
+            dt: 0.01,
+            integrator: Integrator::GeneralizedAlpha(GeneralizedAlpha::with_rho_inf(0.8)),
+            stiffening: true,
+        }
+    }
+}
+
+/// Why a run stopped early.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Divergence {
+    /// Time (s).
+    pub t: f64,
+    /// What happened (tip beyond the beam length, or the integrator's error).
+    pub reason: String,
+}
+
+/// Tip displacement history of a spin-up run, in the rotating hub (body) frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SpinUpResult {
+    /// Times (s).
+    pub t: Vec<f64>,
+    /// Hub angle θ(t) (rad).
+    pub hub_angle: Vec<f64>,
+    /// Tip displacement along the hub-frame x axis (m).
+    pub tip_axial: Vec<f64>,
+    /// Tip displacement along the hub-frame y axis (m; negative = lagging, hub turning positively about z).
+    pub tip_transverse: Vec<f64>,
+    /// Set if the run diverged (|tip| > L) or the integrator failed.
+    pub diverged: Option<Divergence>,
+}
+
+impl SpinUpResult {
+    /// `(t, value)` of the most negative transverse tip deflection.
+    pub fn min_transverse(&self) -> Option<(f64, f64)> {
+        self.t
+            .iter()
+            .zip(&self.tip_transverse)
+            .map(|(a, b)| (*a, *b))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+    /// Largest `|tip_transverse|` for `t ≥ t_from`.
+    pub fn max_abs_transverse_after(&self, t_from: f64) -> f64 {
+        self.t
+            .iter()
+            .zip(&self.tip_transverse)
+            .filter(|(t, _)| **t >= t_from)
+            .map(|(_, v)| v.abs())
+            .fold(0.0, f64::max)
+    }
+    /// Linear interpolation of the transverse deflection at `t`.
+    pub fn transverse_at(&self, t: f64) -> Option<f64> {
+        let i = self.t.iter().position(|&x| x >= t)?;
+        if i == 0 {
+            return self.tip_transverse.first().copied();
+        }
+        let (t0, t1) = (self.t[i - 1], self.t[i]);
+        let w = (t - t0) / (t1 - t0);
+        Some(self.tip_transverse[i - 1] * (1.0 - w) + self.tip_transverse[i] * w)
+    }
+}
+
+/// The spin-up scene: planar, the beam clamped at the hub (its frame origin
+/// fixed at the global origin), hub angle `θ(t)` prescribed ([`Driver::spin_up`]).
+pub fn spin_up_system(
+    body: Box<dyn FlexBody>,
+    omega_s: f64,
+    t_ramp: f64,
+    stiffening: bool,
+) -> Result<(System, BodyId)> {
+    if body.dim() != 2 {
+        return Err(Error::InvalidInput(
+            "the spin-up scene is planar: it needs a planar (dim 2) body".into(),
+        ));
+    }
+    if !(omega_s.is_finite() && t_ramp > 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "spin-up needs finite ω_s and T > 0 (got {omega_s}, {t_ramp})"
+        )));
+    }
+    let mut sys = System::planar();
+    let b = sys.add_body(body, Pose::planar(0.0, 0.0, 0.0))?;
+    sys.set_stiffening(b, stiffening)?;
+    sys.prescribe_coordinate(b, 0, Driver::constant(0.0))?;
+    sys.prescribe_coordinate(b, 1, Driver::constant(0.0))?;
+    sys.prescribe_coordinate(b, 2, Driver::spin_up(omega_s, t_ramp))?;
+    Ok((sys, b))
+}
+
+/// Run the spin-up. The tip is `tip_shape` (`S_P`, 3 × n_f) if given, else
+/// the last node's `ux`/`uy` coordinates. Divergence (|tip| > L, `L = 2 S_t0,x/m`)
+/// or an integrator failure stops the run and is reported in
+/// [`SpinUpResult::diverged`]; bad input is an `Err`.
+pub fn spin_up(
+    body: Box<dyn FlexBody>,
+    tip_shape: Option<Matrix3xX<f64>>,
+    cfg: &SpinUp,
+) -> Result<SpinUpResult> {
+    let length = beam_length(body.as_ref());
+    let labels = body.dof_labels();
+    let nf = body.nf();
+    let tip = match tip_shape {
+        Some(s) if s.ncols() == nf => s,
+        Some(s) => {
+            return Err(Error::InvalidInput(format!(
+                "tip shape has {} columns, n_f = {nf}",
+                s.ncols()
+            )))
+        }
+        None => {
+            let n = last_node(&labels).ok_or_else(|| {
+                Error::InvalidInput("body has no node labels; pass the tip shape".into())
+            })?;
+            let (ix, iy) = (
+                dof_index(&labels, &format!("ux_{n}")),
+                dof_index(&labels, &format!("uy_{n}")),
+            );
+            if ix.is_none() || iy.is_none() {
+                return Err(Error::InvalidInput(format!(
+                    "no ux_{n}/uy_{n} coordinates; pass the tip shape"
+                )));
+            }
+            node_shape(body.as_ref(), n)
+        }
+    };
+    let (sys, b) = spin_up_system(body, cfg.omega_s, cfg.t_ramp, cfg.stiffening)?;
+    let fo = sys.offset(b) + sys.body(b).f_offset();
+    let mut res = SpinUpResult::default();
+    let run = sys.simulate(cfg.t_end, cfg.dt, &cfg.integrator, |v| {
+        let q = &v.state.q;
+        let qf = q.rows(fo, nf);
+        let u = &tip * qf;
+        res.t.push(v.state.t);
+        res.hub_angle.push(q[sys.offset(b) + 2]);
+        res.tip_axial.push(u.x);
+        res.tip_transverse.push(u.y);
+        if u.norm() > length {
+            res.diverged = Some(Divergence {
+                t: v.state.t,
+                reason: format!(
+                    "tip displacement {:.3} m exceeds the beam length {length} m",
+                    u.norm()
+                ),
+            });
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    });
+    match run {
+        Ok(_) => {}
+        Err(
+            e @ (Error::NoConvergence { .. } | Error::NonFinite { .. } | Error::Singular { .. }),
+        ) => {
+            res.diverged = Some(Divergence {
+                t: res.t.last().copied().unwrap_or(0.0),
+                reason: e.to_string(),
+            });
+        }
+        Err(e) => return Err(e),
+    }
+    Ok(res)
+}
+
+/// Convergence study of the spin-up: for each `(body, dt)` the transverse tip
+/// deflection at the sample times `t_samples` (or NaN if diverged before).
+/// `make_body(elements)` builds the body.
+pub fn spin_up_convergence(
+    make_body: &dyn Fn(usize) -> Box<dyn FlexBody>,
+    elements: &[usize],
+    steps: &[f64],
+    base: &SpinUp,
+    t_samples: &[f64],
+) -> Result<Vec<(usize, f64, Vec<f64>)>> {
+    let mut out = Vec::new();
+    for &n in elements {
+        for &dt in steps {
+            let cfg = SpinUp {
+                dt,
+                t_end: t_samples.iter().copied().fold(0.0, f64::max) + dt,
+                ..*base
+            };
+            let r = spin_up(make_body(n), None, &cfg)?;
+            let vals = t_samples
+                .iter()
+                .map(|&t| r.transverse_at(t).unwrap_or(f64::NAN))
+                .collect();
+            out.push((n, dt, vals));
+        }
+    }
+    Ok(out)
+}
+
+// ------------------------------------------------------------------ pendulum
+
+/// A flexible pendulum: the body's node 0 (its frame origin) pinned to the
+/// ground at the origin by a revolute joint about global z, the body initially
+/// horizontal along +x, gravity `−9.81 e_y`. Planar for a `dim 2` body,
+/// spatial (Euler parameters, spatial revolute) for a `dim 3` body.
+pub fn pendulum(body: Box<dyn FlexBody>) -> Result<(System, BodyId)> {
+    let d = body.dim();
+    let labels = body.dof_labels();
+    let mut sys = if d == 2 {
+        System::planar()
+    } else {
+        System::spatial()
+    };
+    let b = sys.add_body(body, Pose::identity(d))?;
+    let pin = Marker::node(b, Vector3::zeros(), &labels, 0);
+    sys.revolute(Marker::ground(Vector3::zeros()), pin)?;
+    sys.set_gravity(Vector3::new(0.0, -9.81, 0.0));
+    Ok((sys, b))
+}
+
+// ------------------------------------------------------------------ free floating
+
+/// A free body (no joints, no forces) with initial frame velocity `v`,
+/// angular velocity `omega` (global) and elastic state `(q_f, q̇_f)`.
+pub fn free_floating(
+    body: Box<dyn FlexBody>,
+    v: Vector3<f64>,
+    omega: Vector3<f64>,
+    q_f: &[f64],
+    qd_f: &[f64],
+) -> Result<(System, BodyId)> {
+    let d = body.dim();
+    let mut sys = if d == 2 {
+        System::planar()
+    } else {
+        System::spatial()
+    };
+    let pose = if d == 2 {
+        Pose::planar(0.1, -0.2, 0.3)
+    } else {
+        Pose::spatial(
+            Vector3::new(0.1, -0.2, 0.3),
+            UnitQuaternion::from_euler_angles(0.2, -0.3, 0.5),
+        )
+    };
+    let b = sys.add_body(body, pose)?;
+    sys.set_velocity(b, v, omega)?;
+    sys.set_elastic(b, q_f, qd_f)?;
+    Ok((sys, b))
+}
+
+// ------------------------------------------------------------------ slider-crank
+
+/// The slider-crank: crank 0.15 m, 0.36 kg, `J = 0.002727 kg m²` about its
+/// pivot (centre of mass at mid-length), driven at 150 rad/s from `θ = 0`;
+/// the flexible rod (0.30 m, steel 8 × 8 mm in the literature; given as a body,
+/// best with a `pinned` reference so that `uy` of the middle node is the
+/// midpoint deflection) from the crank tip to the slider (0.075552 kg) on the x axis.
+pub struct SliderCrank {
+    /// The system.
+    pub system: System,
+    /// Crank body.
+    pub crank: BodyId,
+    /// Rod body.
+    pub rod: BodyId,
+    /// Slider body.
+    pub slider: BodyId,
+    /// Index in `q` of the rod's middle-node `uy`.
+    pub mid_uy: usize,
+}
+
+/// Crank length (m).
+pub const CRANK_LENGTH: f64 = 0.15;
+/// Rod length (m).
+pub const ROD_LENGTH: f64 = 0.30;
+/// Crank speed (rad/s).
+pub const CRANK_SPEED: f64 = 150.0;
+
+/// Build the slider-crank with `rod` (planar beam of length 0.3 m and an even
+/// number of elements).
+pub fn slider_crank(rod: Box<dyn FlexBody>) -> Result<SliderCrank> {
+    if rod.dim() != 2 {
+        return Err(Error::InvalidInput(
+            "the slider-crank is planar: the rod must be a dim-2 body".into(),
+        ));
+    }
+    let labels = rod.dof_labels();
+    let n =
+        last_node(&labels).ok_or_else(|| Error::InvalidInput("rod has no node labels".into()))?;
+    if n % 2 != 0 {
+        return Err(Error::InvalidInput(format!(
+            "the rod needs an even number of elements (has {n})"
+        )));
+    }
+    let mid = dof_index(&labels, &format!("uy_{}", n / 2))
+        .ok_or_else(|| Error::InvalidInput("rod has no middle-node uy".into()))?;
+    let (lc, lr, w) = (CRANK_LENGTH, ROD_LENGTH, CRANK_SPEED);
+    let mut sys = System::planar();
+    let j_pivot = 0.002727;
+    let m_crank = 0.36;
+    let crank = RigidBody::planar(
+        m_crank,
+        j_pivot - m_crank * (lc / 2.0) * (lc / 2.0),
+        Vector2::new(lc / 2.0, 0.0),
+    );
+    let c = sys.add_body(Box::new(crank), Pose::planar(0.0, 0.0, 0.0))?;
+    let r = sys.add_body(rod, Pose::planar(lc, 0.0, 0.0))?;
+    let s = sys.add_body(
+        Box::new(RigidBody::planar(0.075552, 1e-6, Vector2::zeros())),
+        Pose::planar(lc + lr, 0.0, 0.0),
+    )?;
+    // Crank: pivot at the origin, angle 150 t.
+    sys.prescribe_coordinate(c, 0, Driver::constant(0.0))?;
+    sys.prescribe_coordinate(c, 1, Driver::constant(0.0))?;
+    sys.prescribe_coordinate(c, 2, Driver::linear(0.0, w))?;
+    sys.revolute(
+        Marker::at(c, Vector3::new(lc, 0.0, 0.0)),
+        Marker::node(r, Vector3::zeros(), &labels, 0),
+    )?;
+    sys.revolute(
+        Marker::node(r, Vector3::new(lr, 0.0, 0.0), &labels, n),
+        Marker::origin(s),
+    )?;
+    // Slider on the x axis, not turning.
+    sys.prescribe_coordinate(s, 1, Driver::constant(0.0))?;
+    sys.prescribe_coordinate(s, 2, Driver::constant(0.0))?;
+    // Rigid-mechanism initial velocities at θ = 0: rod ω = −(l_c/l_r) θ̇, rod origin at the crank tip.
+    sys.set_velocity(c, Vector3::zeros(), Vector3::new(0.0, 0.0, w))?;
+    sys.set_velocity(
+        r,
+        Vector3::new(0.0, lc * w, 0.0),
+        Vector3::new(0.0, 0.0, -lc / lr * w),
+    )?;
+    let mid_uy = sys.offset(r) + sys.body(r).f_offset() + mid;
+    Ok(SliderCrank {
+        system: sys,
+        crank: c,
+        rod: r,
+        slider: s,
+        mid_uy,
+    })
+}
+
+impl SliderCrank {
+    /// Run to `t_end` with step `dt`: `(t, midpoint deflection)` samples.
+    pub fn run(
+        &self,
+        t_end: f64,
+        dt: f64,
+        integrator: &Integrator,
+    ) -> Result<(Vec<f64>, Vec<f64>)> {
+        let (mut t, mut y) = (Vec::new(), Vec::new());
+        self.system.simulate(t_end, dt, integrator, |v| {
+            t.push(v.state.t);
+            y.push(v.state.q[self.mid_uy]);
+            ControlFlow::Continue(())
+        })?;
+        Ok((t, y))
+    }
+}
