@@ -588,10 +588,19 @@ impl BodySpec {
         }
     }
 
-    /// The strain energy of geometric stiffening beyond `½ qᵀ K_ff q`,
-    /// `U_nl = ∫ E A (½ u'(v'² + w'²) + ⅛ (v'² + w'²)²) dx` with the
-    /// centreline displacements `u, v, w` (the shape at `η = ζ = 0`), as an
-    /// exact polynomial in the body's `q_f` (symbols `Q(i)`) and parameters.
+    /// The strain energy of geometric stiffening beyond `½ qᵀ K_ff q`, from
+    /// the axial strain `ε = u' + ½(v'² + w'²)` of the centreline (`u, v, w`:
+    /// the shape at `η = ζ = 0`) taken as its mean over each element
+    /// (`ε̄ = ū' + ½ s̄`, `s̄` the element mean of `v'² + w'²`):
+    ///
+    /// `U_nl = Σ_e E A l (½ ū' s̄ + ⅛ s̄²)`.
+    ///
+    /// The element mean removes membrane locking: with a linear axial and a
+    /// cubic transverse field, `ε` pointwise cannot vanish in pure bending and
+    /// the pointwise energy `∫ E A ε² dx` over-stiffens coarse meshes (the
+    /// spin-up tip deflection at 7 s converges from −0.15 m at 2 elements,
+    /// against −0.52 m with the element mean). Returned as an exact
+    /// polynomial in the body's `q_f` (symbols `Q(i)`) and parameters.
     pub fn stiffening_energy(&self) -> Poly {
         let rows = self.rows3();
         let n = rows[0].len();
@@ -610,13 +619,15 @@ impl BodySpec {
             s
         };
         let (du, dv, dw) = (slope(0), slope(1), slope(2));
-        let s2 = dv.mul(&dv).add(&dw.mul(&dw));
-        let density = du
-            .mul(&s2)
+        // Element means over ξ ∈ [0, 1].
+        let du_mean = du.integrate_xi();
+        let s_mean = dv.mul(&dv).add(&dw.mul(&dw)).integrate_xi();
+        let density = du_mean
+            .mul(&s_mean)
             .scale(&rat(1, 2))
-            .add(&s2.mul(&s2).scale(&rat(1, 8)));
+            .add(&s_mean.mul(&s_mean).scale(&rat(1, 8)));
         let ea = p(Param::E).mul(&p(Param::Area));
-        let element = ea.mul(&density).mul_monomial(&l_pow(1)).integrate_xi();
+        let element = ea.mul(&density).mul_monomial(&l_pow(1));
         let mut total = Poly::zero();
         for e in 0..self.elements {
             let map = self.element_map(e);

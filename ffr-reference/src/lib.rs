@@ -639,73 +639,72 @@ impl RefBody {
         r
     }
 
-    /// Calls `f(EA l w_ξ, a, b, c, map, q_e)` at the centerline Gauss points of each element.
-    fn for_each_centerline(
+    /// Per element: `(ā, B, map, q_e)` with `ū' = ā·q_e` the element mean
+    /// of `u'` and `s̄ = q_eᵀ B q_e` the element mean of `v'² + w'²`.
+    fn averaged<F: FnMut(f64, &DVector<f64>, &DMatrix<f64>, &[Option<usize>], &DVector<f64>)>(
         &self,
         q_f: &[f64],
-        mut f: impl FnMut(
-            f64,
-            &DVector<f64>,
-            &DVector<f64>,
-            &DVector<f64>,
-            &[Option<usize>],
-            &DVector<f64>,
-        ),
+        mut f: F,
     ) {
         self.check_q(q_f);
         let l = self.l();
         let ea = self.params.e * self.params.area();
         let full = self.dof_map();
-        let gx = gauss_legendre(NXI, 0.0, 1.0);
+        let gx = gauss_legendre(6, 0.0, 1.0);
+        let ne = self.shape.elem_dofs();
         for e in 0..self.elements {
             let map = self.elem_map(&full, e);
             let qe = Self::gather(&map, q_f);
+            let mut abar = DVector::zeros(ne);
+            let mut bm = DMatrix::zeros(ne, ne);
             for &(xi, wx) in &gx {
                 let (a, b, c) = self.shape.centerline_grad(l, xi);
-                f(ea * l * wx, &a, &b, &c, &map, &qe);
+                abar += wx * a;
+                bm += wx * (&b * b.transpose() + &c * c.transpose());
             }
+            f(ea * l, &abar, &bm, &map, &qe);
         }
     }
 
-    /// `U_nl = ∫ EA (½ u'(v'² + w'²) + ⅛ (v'² + w'²)²) dx`.
+    /// `U_nl = Σ_e E A l (½ ū' s̄ + ⅛ s̄²)`: the strain energy of the
+    /// element-mean axial strain `ε̄ = ū' + ½ s̄` beyond its linear part, where
+    /// `ū'` and `s̄` are the element means of `u'` and `v'² + w'²`.
     pub fn stiffening_energy(&self, q_f: &[f64]) -> f64 {
-        let mut u_nl = 0.0;
-        self.for_each_centerline(q_f, |w, a, b, c, _, qe| {
-            let (du, dv, dw) = (a.dot(qe), b.dot(qe), c.dot(qe));
-            let s = dv * dv + dw * dw;
-            u_nl += w * (0.5 * du * s + 0.125 * s * s);
+        let mut u = 0.0;
+        self.averaged(q_f, |w, a, bm, _, qe| {
+            let du = a.dot(qe);
+            let s = qe.dot(&(bm * qe));
+            u += w * (0.5 * du * s + 0.125 * s * s);
         });
-        u_nl
+        u
     }
 
-    /// `∂U_nl/∂q = ∫ EA (½ s a + P d) dx`, `s = v'² + w'²`, `P = u' + ½ s`, `d = v' b + w' c`.
+    /// `∂U_nl/∂q = Σ_e E A l (½ s̄ ā + P̄ B q)`, `P̄ = ū' + ½ s̄`.
     pub fn stiffening_force(&self, q_f: &[f64]) -> DVector<f64> {
         let mut f = DVector::zeros(self.nf());
-        self.for_each_centerline(q_f, |w, a, b, c, map, qe| {
-            let (du, dv, dw) = (a.dot(qe), b.dot(qe), c.dot(qe));
-            let s = dv * dv + dw * dw;
-            let p = du + 0.5 * s;
-            let d = dv * b + dw * c;
-            let local = w * (0.5 * s * a + p * d);
+        self.averaged(q_f, |w, a, bm, map, qe| {
+            let du = a.dot(qe);
+            let bq = bm * qe;
+            let s = qe.dot(&bq);
+            let local = w * (0.5 * s * a + (du + 0.5 * s) * &bq);
             Self::scatter_vec(map, &local, &mut f);
         });
         f
     }
 
-    /// `∂²U_nl/∂q² = ∫ EA (a dᵀ + d aᵀ + d dᵀ + P (b bᵀ + c cᵀ)) dx`.
+    /// `∂²U_nl/∂q² = Σ_e E A l (ā (Bq)ᵀ + Bq āᵀ + Bq (Bq)ᵀ + P̄ B)`.
     pub fn stiffening_tangent(&self, q_f: &[f64]) -> DMatrix<f64> {
         let nf = self.nf();
         let mut h = DMatrix::zeros(nf, nf);
-        self.for_each_centerline(q_f, |w, a, b, c, map, qe| {
-            let (du, dv, dw) = (a.dot(qe), b.dot(qe), c.dot(qe));
-            let s = dv * dv + dw * dw;
-            let p = du + 0.5 * s;
-            let d = dv * b + dw * c;
+        self.averaged(q_f, |w, a, bm, map, qe| {
+            let du = a.dot(qe);
+            let bq = bm * qe;
+            let s = qe.dot(&bq);
             let local = w
-                * (a * d.transpose()
-                    + &d * a.transpose()
-                    + &d * d.transpose()
-                    + p * (b * b.transpose() + c * c.transpose()));
+                * (a * bq.transpose()
+                    + &bq * a.transpose()
+                    + &bq * bq.transpose()
+                    + (du + 0.5 * s) * bm);
             Self::scatter_mat(map, &local, &mut h);
         });
         h

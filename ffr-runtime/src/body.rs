@@ -126,8 +126,11 @@ pub trait FlexBody {
     }
 
     /// Geometric (centrifugal) stiffening from the quadratic axial strain
-    /// `ε = u' + ½(v'² + w'²)`: with `U_nl(q_f) = ∫ EA (½ u'(v'² + w'²) + ⅛ (v'² + w'²)²) dx`,
-    /// the part of the strain energy beyond `½ q_fᵀ K_ff q_f`, this **adds**
+    /// `ε = u' + ½(v'² + w'²)` taken as its mean over each element (which
+    /// keeps coarse meshes free of membrane locking): with
+    /// `U_nl(q_f) = Σ_e EA l (½ ū' s̄ + ⅛ s̄²)` (`ū'`, `s̄`: element means of
+    /// `u'` and `v'² + w'²`), the part of the strain energy beyond
+    /// `½ q_fᵀ K_ff q_f`, this **adds**
     /// `∂U_nl/∂q_f` to `force` and, when given, `∂²U_nl/∂q_f²` to `tangent`.
     /// The elastic generalized force is then `−K_ff q_f − ∂U_nl/∂q_f`.
     fn stiffening(&self, q_f: &[f64], force: &mut [f64], tangent: Option<&mut DMatrix<f64>>) {
