@@ -13,14 +13,19 @@ pub const BODIES: [(&str, &str, usize, bool); 4] = [
 fn main() {
     let out = std::path::PathBuf::from(std::env::var("OUT_DIR").unwrap());
     for (name, shape, n, stiffening) in BODIES {
-        let spec = BodySpec::new(Shape::resolve(shape, None).unwrap(), n, Reference::Clamped).unwrap();
+        let spec =
+            BodySpec::new(Shape::resolve(shape, None).unwrap(), n, Reference::Clamped).unwrap();
         let g = ffr_codegen::generate(&spec, Options { stiffening }).unwrap();
         let opts = EmitOptions {
             type_name: name.to_string(),
             define_struct: true,
             runtime_path: "::ffr_runtime".to_string(),
         };
-        std::fs::write(out.join(format!("{}.rs", name.to_lowercase())), emit_file(&g, &opts)).unwrap();
+        std::fs::write(
+            out.join(format!("{}.rs", name.to_lowercase())),
+            emit_file(&g, &opts),
+        )
+        .unwrap();
     }
     println!("cargo:rerun-if-changed=build.rs");
 }

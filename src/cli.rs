@@ -28,6 +28,8 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Run the spin-up beam benchmark (the default job).
+    SpinUp(crate::spin_up::SpinUpArgs),
     /// Print the generated Rust for a body.
     Emit {
         #[command(flatten)]
@@ -148,6 +150,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             print!("{}", ffr_codegen::emit_file(&g, &opts));
             Ok(())
         }
+        Some(Command::SpinUp(args)) => crate::spin_up::run(&args).map(|_| ()),
         None => crate::default_scene(),
     }
 }

@@ -24,8 +24,10 @@ pub mod program;
 pub mod shape;
 
 pub use body::{BodySpec, Dof, Formalism, Reference};
+pub use builder::Builder;
 pub use emit::{emit_file, EmitOptions};
 pub use error::{Error, Location};
 pub use generate::{generate, Generated, Options};
 pub use numeric::{NumericInertia, NumericInvariants, ParamValues};
+pub use program::Target;
 pub use shape::{Kind, Shape};

@@ -32,18 +32,6 @@ pub enum Expr {
 }
 
 impl Expr {
-    fn eval(&self, slots: &[f64]) -> f64 {
-        match self {
-            Expr::Var(i) => slots[*i as usize],
-            Expr::Lit(x) => *x,
-            Expr::Add(a, b) => a.eval(slots) + b.eval(slots),
-            Expr::Sub(a, b) => a.eval(slots) - b.eval(slots),
-            Expr::Mul(a, b) => a.eval(slots) * b.eval(slots),
-            Expr::Div(a, b) => a.eval(slots) / b.eval(slots),
-            Expr::Neg(a) => -a.eval(slots),
-        }
-    }
-
     fn mul(a: Expr, b: Expr) -> Expr {
         Expr::Mul(Box::new(a), Box::new(b))
     }
@@ -107,20 +95,40 @@ pub enum Input {
 impl Program {
     /// Run the program: parameter values in [`Param::FIELDS`] order, and `q_f`.
     pub fn eval(&self, params: &[f64; 8], q: &[f64]) -> Vec<(Target, f64)> {
-        let mut slots = vec![0.0; self.names.len()];
-        for (slot, input) in &self.inputs {
-            slots[*slot as usize] = match input {
-                Input::Param(p) => params[p.field_index().expect("runtime field")],
-                Input::Q(i) => q[*i],
-            };
-        }
-        for (slot, e) in &self.stmts {
-            slots[*slot as usize] = e.eval(&slots);
-        }
-        self.outputs
+        let tape = self.tape();
+        let mut slots = Vec::new();
+        tape.run(params, q, &mut slots);
+        tape.outputs.iter().map(|&(t, s)| (t, slots[s as usize])).collect()
+    }
+
+    /// The program flattened into register operations, in the order the
+    /// emitted Rust evaluates them (so results are bit for bit the same).
+    pub fn tape(&self) -> Tape {
+        let mut t = Tape {
+            n_slots: self.names.len() as u32,
+            ..Tape::default()
+        };
+        t.inputs = self
+            .inputs
             .iter()
-            .map(|(t, e)| (*t, e.eval(&slots)))
-            .collect()
+            .map(|&(s, i)| {
+                let src = match i {
+                    Input::Param(p) => TapeInput::Param(p.field_index().expect("runtime field")),
+                    Input::Q(k) => TapeInput::Q(k),
+                };
+                (s, src)
+            })
+            .collect();
+        let mut consts = HashMap::new();
+        for (slot, e) in &self.stmts {
+            let r = t.compile(e, &mut consts);
+            t.ops.push(Op::Copy(*slot, r));
+        }
+        for (target, e) in &self.outputs {
+            let r = t.compile(e, &mut consts);
+            t.outputs.push((*target, r));
+        }
+        t
     }
 
     /// The parameters the program reads.
@@ -135,6 +143,109 @@ impl Program {
             .collect();
         v.sort();
         v
+    }
+}
+
+/// Where a tape input comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TapeInput {
+    /// Parameter by index into [`Param::FIELDS`].
+    Param(usize),
+    /// `q_f[i]`.
+    Q(usize),
+}
+
+/// One register operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Op {
+    /// `dst = a + b`.
+    Add(u32, u32, u32),
+    /// `dst = a − b`.
+    Sub(u32, u32, u32),
+    /// `dst = a · b`.
+    Mul(u32, u32, u32),
+    /// `dst = a / b`.
+    Div(u32, u32, u32),
+    /// `dst = −a`.
+    Neg(u32, u32),
+    /// `dst = a`.
+    Copy(u32, u32),
+}
+
+/// A [`Program`] as a flat list of register operations: what an evaluated
+/// (not compiled) body runs.
+#[derive(Clone, Debug, Default)]
+pub struct Tape {
+    n_slots: u32,
+    consts: Vec<(u32, f64)>,
+    inputs: Vec<(u32, TapeInput)>,
+    ops: Vec<Op>,
+    /// Each output and the register holding it after [`Tape::run`].
+    pub outputs: Vec<(Target, u32)>,
+}
+
+impl Tape {
+    fn fresh(&mut self) -> u32 {
+        self.n_slots += 1;
+        self.n_slots - 1
+    }
+
+    fn compile(&mut self, e: &Expr, consts: &mut HashMap<u64, u32>) -> u32 {
+        match e {
+            Expr::Var(i) => *i,
+            Expr::Lit(x) => {
+                if let Some(&r) = consts.get(&x.to_bits()) {
+                    return r;
+                }
+                let r = self.fresh();
+                self.consts.push((r, *x));
+                consts.insert(x.to_bits(), r);
+                r
+            }
+            Expr::Add(a, b) | Expr::Sub(a, b) | Expr::Mul(a, b) | Expr::Div(a, b) => {
+                let (ra, rb) = (self.compile(a, consts), self.compile(b, consts));
+                let d = self.fresh();
+                self.ops.push(match e {
+                    Expr::Add(..) => Op::Add(d, ra, rb),
+                    Expr::Sub(..) => Op::Sub(d, ra, rb),
+                    Expr::Mul(..) => Op::Mul(d, ra, rb),
+                    _ => Op::Div(d, ra, rb),
+                });
+                d
+            }
+            Expr::Neg(a) => {
+                let ra = self.compile(a, consts);
+                let d = self.fresh();
+                self.ops.push(Op::Neg(d, ra));
+                d
+            }
+        }
+    }
+
+    /// Run with parameter values in [`Param::FIELDS`] order and `q_f`;
+    /// `slots` is scratch space (resized as needed): read the outputs from it
+    /// through [`Tape::outputs`].
+    pub fn run(&self, params: &[f64; 8], q: &[f64], slots: &mut Vec<f64>) {
+        slots.resize(self.n_slots as usize, 0.0);
+        for &(r, x) in &self.consts {
+            slots[r as usize] = x;
+        }
+        for &(r, src) in &self.inputs {
+            slots[r as usize] = match src {
+                TapeInput::Param(i) => params[i],
+                TapeInput::Q(i) => q[i],
+            };
+        }
+        for op in &self.ops {
+            match *op {
+                Op::Add(d, a, b) => slots[d as usize] = slots[a as usize] + slots[b as usize],
+                Op::Sub(d, a, b) => slots[d as usize] = slots[a as usize] - slots[b as usize],
+                Op::Mul(d, a, b) => slots[d as usize] = slots[a as usize] * slots[b as usize],
+                Op::Div(d, a, b) => slots[d as usize] = slots[a as usize] / slots[b as usize],
+                Op::Neg(d, a) => slots[d as usize] = -slots[a as usize],
+                Op::Copy(d, a) => slots[d as usize] = slots[a as usize],
+            }
+        }
     }
 }
 

@@ -8,15 +8,35 @@ use ffr_runtime::{CompiledBody, FlexBody, InertiaTerms, InvariantBody, Params};
 use nalgebra::DMatrix;
 
 fn params() -> Params {
-    Params { length: 2.5, rho: 2700.0, area: 3e-4, iy: 2.1e-9, iz: 4.4e-9, e: 7e10, g: 2.6e10, j: 5.3e-9 }
+    Params {
+        length: 2.5,
+        rho: 2700.0,
+        area: 3e-4,
+        iy: 2.1e-9,
+        iz: 4.4e-9,
+        e: 7e10,
+        g: 2.6e10,
+        j: 5.3e-9,
+    }
 }
 
 fn values(p: &Params) -> ParamValues {
-    ParamValues { length: p.length, rho: p.rho, area: p.area, iy: p.iy, iz: p.iz, e: p.e, g: p.g, j: p.j }
+    ParamValues {
+        length: p.length,
+        rho: p.rho,
+        area: p.area,
+        iy: p.iy,
+        iz: p.iz,
+        e: p.e,
+        g: p.g,
+        j: p.j,
+    }
 }
 
 fn q_of(n: usize, scale: f64) -> Vec<f64> {
-    (0..n).map(|i| scale * ((i as f64 * 0.7311).sin() + 0.1 * i as f64 / n as f64)).collect()
+    (0..n)
+        .map(|i| scale * ((i as f64 * 0.7311).sin() + 0.1 * i as f64 / n as f64))
+        .collect()
 }
 
 fn bits(a: f64, b: f64) -> bool {
@@ -32,7 +52,10 @@ fn check<B: CompiledBody + From<Params>>(shape: &str, n: usize, stiffening: bool
     )
     .unwrap();
     assert_eq!(B::NF, g.dofs.len());
-    assert_eq!(body.dof_labels(), g.dofs.iter().map(|d| d.to_string()).collect::<Vec<_>>());
+    assert_eq!(
+        body.dof_labels(),
+        g.dofs.iter().map(|d| d.to_string()).collect::<Vec<_>>()
+    );
     let inv = body.invariants();
     let ev = g.eval_invariants(&values(&p));
     assert!(bits(inv.mass, ev.mass));
