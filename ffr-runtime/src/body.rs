@@ -102,6 +102,43 @@ impl InertiaTerms {
     }
 }
 
+/// The blocks of the mass matrix `M = ∫ρ Lᵀ L dV` (theory sheet) for a body
+/// with rotation `A` and `Ḡ` (3 × n_θ, `ω̄ = Ḡ θ̇`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MassBlocks {
+    /// `m_RR = m I` (the scalar `m`).
+    pub m_rr: f64,
+    /// `m_Rθ = −A S̃_t Ḡ` (3 × n_θ).
+    pub m_r_theta: Matrix3xX<f64>,
+    /// `m_Rf = A S̄` (3 × n_f).
+    pub m_rf: Matrix3xX<f64>,
+    /// `m_θθ = Ḡᵀ Ī_θθ Ḡ` (n_θ × n_θ).
+    pub m_theta_theta: DMatrix<f64>,
+    /// `m_θf = Ḡᵀ Ī_θf` (n_θ × n_f).
+    pub m_theta_f: DMatrix<f64>,
+}
+
+impl MassBlocks {
+    /// The blocks from the invariants, the `q_f`-dependent terms at the
+    /// current `q_f`, and `A`, `Ḡ` (`m_ff` is `inv.m_ff`, constant).
+    pub fn new(
+        inv: &Invariants,
+        terms: &InertiaTerms,
+        a: &Matrix3<f64>,
+        g_bar: &Matrix3xX<f64>,
+    ) -> Self {
+        let s_t = terms.s_t;
+        let s_t_skew = Matrix3::new(0.0, -s_t.z, s_t.y, s_t.z, 0.0, -s_t.x, -s_t.y, s_t.x, 0.0);
+        Self {
+            m_rr: inv.mass,
+            m_r_theta: -(a * s_t_skew * g_bar),
+            m_rf: a * &inv.s_bar,
+            m_theta_theta: g_bar.transpose() * terms.i_theta_theta * g_bar,
+            m_theta_f: g_bar.transpose() * &terms.i_theta_f,
+        }
+    }
+}
+
 /// A flexible body described by shape functions: what the FFR equations of
 /// motion need from it. Dyn-compatible, so scenes can hold `Box<dyn FlexBody>`.
 pub trait FlexBody {

@@ -20,7 +20,9 @@ pub mod rotation;
 pub mod scenes;
 pub mod system;
 
-pub use body::{CompiledBody, FlexBody, InertiaTerms, InvariantBody, Invariants, Params};
+pub use body::{
+    CompiledBody, FlexBody, InertiaTerms, InvariantBody, Invariants, MassBlocks, Params,
+};
 pub use driver::Driver;
 pub use error::{Error, Result};
 pub use force::ForceElement;

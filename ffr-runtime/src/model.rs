@@ -5,7 +5,7 @@
 //! [`FlexBody::inertia_terms`] (theory sheet, "Mass matrix" and
 //! "Velocity-dependent inertia").
 
-use crate::body::{FlexBody, InertiaTerms, Invariants};
+use crate::body::{FlexBody, InertiaTerms, Invariants, MassBlocks};
 use crate::error::{Error, Result};
 use crate::rotation::{rotation_and_g, skew};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix3xX, Vector3};
@@ -173,10 +173,8 @@ impl BodyModel {
         for i in 0..d {
             m[(i, i)] = self.inv.mass;
         }
-        let m_rth = -(fr.a * skew(&t.s_t) * &fr.g);
-        let m_rf = fr.a * &self.inv.s_bar;
-        let m_thth = fr.g.transpose() * t.i_theta_theta * &fr.g;
-        let m_thf = fr.g.transpose() * &t.i_theta_f;
+        let b = MassBlocks::new(&self.inv, &t, &fr.a, &fr.g);
+        let (m_rth, m_rf, m_thth, m_thf) = (b.m_r_theta, b.m_rf, b.m_theta_theta, b.m_theta_f);
         for i in 0..d {
             for j in 0..nth {
                 m[(i, d + j)] = m_rth[(i, j)];
