@@ -1,1 +1,429 @@
-//! The `#[flex_body]` attribute (see the `ffr` crate).
+//! The `#[flex_body]` attribute (see the `ffr` crate, which re-exports it).
+//!
+//! Thin by design: parse the options and the struct, validate them, call
+//! `ffr-codegen` (the same generator as `ffr_codegen::Builder` in a build
+//! script), and expand to the struct unchanged plus the generated
+//! `FlexBody` and `CompiledBody` implementations. Misuse becomes a
+//! `compile_error!` at the offending token.
+
+use ffr_codegen::body::MAX_ELEMENTS;
+use ffr_codegen::builder::resolve_shape;
+use ffr_codegen::emit::body_items;
+use ffr_codegen::poly::Param;
+use ffr_codegen::shape::builtin_names;
+use ffr_codegen::{generate, BodySpec, EmitOptions, Formalism, Options, Reference};
+use proc_macro::TokenStream;
+use proc_macro2::{Span, TokenStream as TokenStream2};
+use quote::{quote, ToTokens};
+use std::path::PathBuf;
+use syn::ext::IdentExt;
+use syn::{Error, Expr, ExprLit, Fields, Item, ItemStruct, Lit, LitStr, Result, Type};
+
+/// Generate a floating-frame-of-reference body for a struct of `f64`
+/// parameter fields: the struct is kept as written and gets implementations
+/// of `ffr::runtime::FlexBody` and `ffr::runtime::CompiledBody`, with the
+/// invariants and `q_f`-dependent terms unrolled inline.
+///
+/// ```ignore
+/// #[ffr::flex_body(shape = "beam3", elements = 8, reference = "clamped")]
+/// pub struct Arm { pub length: f64, pub rho: f64, pub area: f64, pub iy: f64,
+///                  pub iz: f64, pub e: f64, pub g: f64, pub j: f64 }
+/// ```
+///
+/// Options:
+/// - `shape = "beam3"`: a built-in shape (`beam2`, `beam3`) or a path to a
+///   `.toml` shape file, relative to the crate root (`CARGO_MANIFEST_DIR`);
+///   the crate is rebuilt when the file changes.
+/// - `elements = 8`: number of equal elements, 1 to 256.
+/// - `reference = "clamped" | "pinned" | "free"` (default `"clamped"`).
+/// - `formalism = "consistent" | "lumped"` (default `"consistent"`).
+/// - `stiffening = true | false`: geometric stiffening (default `false`).
+///
+/// The struct needs an `f64` field for every parameter the body uses
+/// (`length`, `rho`, `area`, `iy`, `iz`, `e`, `g`, `j`; a planar body, for
+/// example, does not use `iy`, `g`, `j`). Other fields are left alone.
+#[proc_macro_attribute]
+pub fn flex_body(attr: TokenStream, item: TokenStream) -> TokenStream {
+    let item = TokenStream2::from(item);
+    match expand(attr.into(), item.clone()) {
+        Ok(out) => out.into(),
+        // Keep the item so that its other uses do not add errors of their own.
+        Err(e) => {
+            let mut out = item;
+            out.extend(e.to_compile_error());
+            out.into()
+        }
+    }
+}
+
+const OPTIONS: &str = "shape, elements, reference, formalism, stiffening";
+
+/// The attribute's options as written.
+#[derive(Default)]
+struct Args {
+    shape: Option<LitStr>,
+    elements: Option<(usize, Expr)>,
+    reference: Option<(Reference, LitStr)>,
+    formalism: Option<(Formalism, LitStr)>,
+    stiffening: Option<bool>,
+}
+
+fn combine(errors: &mut Option<Error>, e: Error) {
+    match errors {
+        Some(all) => all.combine(e),
+        None => *errors = Some(e),
+    }
+}
+
+fn parse_args(attr: TokenStream2) -> Result<Args> {
+    let mut args = Args::default();
+    let mut errors = None;
+    // Options written (valid or not), to tell a missing option from a wrong one.
+    let mut given: Vec<String> = Vec::new();
+    let parser = syn::meta::parser(|meta| {
+        let path = &meta.path;
+        let name = path
+            .get_ident()
+            .map(|i| i.unraw().to_string())
+            .unwrap_or_else(|| path.to_token_stream().to_string().replace(' ', ""));
+        let known = matches!(
+            name.as_str(),
+            "shape" | "elements" | "reference" | "formalism" | "stiffening"
+        );
+        if !known {
+            combine(
+                &mut errors,
+                Error::new_spanned(path, format!("unknown option `{name}`: expected {OPTIONS}")),
+            );
+            // Skip its value, if any, and go on with the others.
+            if meta.input.peek(syn::Token![=]) {
+                meta.value()?.parse::<Expr>()?;
+            }
+            return Ok(());
+        }
+        let value: Expr = meta.value()?.parse()?;
+        if given.contains(&name) {
+            combine(
+                &mut errors,
+                Error::new_spanned(path, format!("option `{name}` is given twice")),
+            );
+            return Ok(());
+        }
+        given.push(name.clone());
+        let result = match name.as_str() {
+            "shape" => string(&value, &name, &shape_help()).map(|s| args.shape = Some(s)),
+            "elements" => elements(&value).map(|n| args.elements = Some((n, value.clone()))),
+            "reference" => {
+                string(&value, &name, "\"clamped\", \"pinned\" or \"free\"").and_then(|s| {
+                    let r = s.value().parse().map_err(|e| Error::new_spanned(&s, e))?;
+                    args.reference = Some((r, s));
+                    Ok(())
+                })
+            }
+            "formalism" => string(&value, &name, "\"consistent\" or \"lumped\"").and_then(|s| {
+                let f = s.value().parse().map_err(|e| Error::new_spanned(&s, e))?;
+                args.formalism = Some((f, s));
+                Ok(())
+            }),
+            _ => match &value {
+                Expr::Lit(ExprLit {
+                    lit: Lit::Bool(b), ..
+                }) => {
+                    args.stiffening = Some(b.value);
+                    Ok(())
+                }
+                other => Err(Error::new_spanned(
+                    other,
+                    format!(
+                        "`stiffening` expects `true` or `false`, found `{}`",
+                        other.to_token_stream()
+                    ),
+                )),
+            },
+        };
+        if let Err(e) = result {
+            combine(&mut errors, e);
+        }
+        Ok(())
+    });
+    syn::parse::Parser::parse2(parser, attr)?;
+    let missing: Vec<&str> = ["shape", "elements"]
+        .into_iter()
+        .filter(|n| !given.iter().any(|g| g == n))
+        .collect();
+    if !missing.is_empty() {
+        let missing: Vec<String> = missing.iter().map(|m| format!("`{m}`")).collect();
+        combine(
+            &mut errors,
+            Error::new(
+                Span::call_site(),
+                format!(
+                    "#[flex_body] needs {}: e.g. #[flex_body(shape = \"beam3\", elements = 8, reference = \"clamped\")]",
+                    missing.join(" and ")
+                ),
+            ),
+        );
+    }
+    match errors {
+        Some(e) => Err(e),
+        None => Ok(args),
+    }
+}
+
+fn shape_help() -> String {
+    format!(
+        "a built-in shape ({}) or a path to a .toml shape file",
+        builtin_names().join(", ")
+    )
+}
+
+fn string(value: &Expr, name: &str, allowed: &str) -> Result<LitStr> {
+    match value {
+        Expr::Lit(ExprLit {
+            lit: Lit::Str(s), ..
+        }) => Ok(s.clone()),
+        other => Err(Error::new_spanned(
+            other,
+            format!(
+                "`{name}` expects a string: {allowed}, found `{}`",
+                other.to_token_stream()
+            ),
+        )),
+    }
+}
+
+fn elements(value: &Expr) -> Result<usize> {
+    let n = match value {
+        Expr::Lit(ExprLit {
+            lit: Lit::Int(i), ..
+        }) => i.base10_parse::<usize>().ok(),
+        _ => None,
+    };
+    match n {
+        Some(n) if (1..=MAX_ELEMENTS).contains(&n) => Ok(n),
+        _ => Err(Error::new_spanned(
+            value,
+            format!(
+                "`elements` must be an integer from 1 to {MAX_ELEMENTS} (the number of equal elements), found `{}`",
+                value.to_token_stream()
+            ),
+        )),
+    }
+}
+
+fn parse_struct(item: TokenStream2) -> Result<ItemStruct> {
+    const WANT: &str =
+        "#[flex_body] applies to a struct with named `f64` fields (the body's parameters)";
+    match syn::parse2::<Item>(item.clone()) {
+        Ok(Item::Struct(s)) => match &s.fields {
+            Fields::Named(_) => Ok(s),
+            Fields::Unnamed(f) => Err(Error::new_spanned(f, format!("{WANT}, not a tuple struct"))),
+            Fields::Unit => Err(Error::new_spanned(
+                &s.ident,
+                format!("{WANT}, not a unit struct"),
+            )),
+        },
+        Ok(Item::Enum(e)) => Err(Error::new_spanned(
+            e.enum_token,
+            format!("{WANT}, not an enum"),
+        )),
+        Ok(Item::Union(u)) => Err(Error::new_spanned(
+            u.union_token,
+            format!("{WANT}, not a union"),
+        )),
+        _ => Err(Error::new_spanned(item, WANT)),
+    }
+}
+
+/// Whether `ty` is written as `f64` (or `core::primitive::f64`, `std::primitive::f64`).
+fn is_f64(ty: &Type) -> bool {
+    match ty {
+        Type::Group(g) => is_f64(&g.elem),
+        Type::Paren(p) => is_f64(&p.elem),
+        Type::Path(p) if p.qself.is_none() => {
+            let segs: Vec<String> = p
+                .path
+                .segments
+                .iter()
+                .map(|s| {
+                    if s.arguments.is_none() {
+                        s.ident.to_string()
+                    } else {
+                        String::new()
+                    }
+                })
+                .collect();
+            let segs: Vec<&str> = segs.iter().map(String::as_str).collect();
+            match segs.as_slice() {
+                ["f64"] => p.path.leading_colon.is_none(),
+                ["core" | "std", "primitive", "f64"] => true,
+                _ => false,
+            }
+        }
+        _ => false,
+    }
+}
+
+fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
+    // Report problems with the options and with the item together.
+    let (args, strukt) = match (parse_args(attr), parse_struct(item.clone())) {
+        (Ok(a), Ok(s)) => (a, s),
+        (Err(mut a), Err(s)) => {
+            a.combine(s);
+            return Err(a);
+        }
+        (Err(e), _) | (_, Err(e)) => return Err(e),
+    };
+    let shape_lit = args.shape.expect("checked");
+    let (elements, elements_expr) = args.elements.expect("checked");
+    let reference = args.reference.map_or(Reference::Clamped, |r| r.0);
+    let formalism = args.formalism.map_or(Formalism::Consistent, |f| f.0);
+
+    let manifest_dir = std::env::var_os("CARGO_MANIFEST_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("."));
+    let shape = resolve_shape(&shape_lit.value(), &manifest_dir).map_err(|e| {
+        let extra = match &e {
+            ffr_codegen::Error::Shape { .. } => "shape file does not parse: ",
+            ffr_codegen::Error::Io { .. } => "cannot read shape file: ",
+            _ => "",
+        };
+        Error::new_spanned(&shape_lit, format!("{extra}{e}"))
+    })?;
+    let shape_name = shape.name.clone();
+    let shape_file = shape.path.clone();
+    let spec = BodySpec::new(shape, elements, reference)
+        .map_err(|e| Error::new_spanned(&elements_expr, e))?
+        .with_formalism(formalism);
+    let generated = generate(
+        &spec,
+        Options {
+            stiffening: args.stiffening.unwrap_or(false),
+        },
+    )
+    .map_err(|e| Error::new_spanned(&shape_lit, e))?;
+
+    check_fields(&strukt, &generated.used_params(), &shape_name)?;
+
+    let code = body_items(
+        &generated,
+        &EmitOptions {
+            type_name: strukt.ident.to_string(),
+            define_struct: false,
+            runtime_path: EmitOptions::default().runtime_path,
+        },
+    );
+    let impls = if strukt.generics.params.is_empty() && strukt.generics.where_clause.is_none() {
+        code.parse::<TokenStream2>().map_err(|e| {
+            Error::new(
+                Span::call_site(),
+                format!("ffr-codegen produced invalid Rust (a bug): {e}"),
+            )
+        })?
+    } else {
+        with_generics(&code, &strukt)?
+    };
+    let rebuild = shape_file.map(|p| {
+        let p = p.canonicalize().unwrap_or(p);
+        let p = p.to_string_lossy();
+        quote!(
+            const _: &[u8] = ::core::include_bytes!(#p);
+        )
+    });
+    // The item exactly as written.
+    Ok(quote! {
+        #item
+        #rebuild
+        #impls
+    })
+}
+
+/// A type as written, without the spaces between tokens that `to_string` adds.
+fn show_type(ty: &Type) -> String {
+    let s = ty.to_token_stream().to_string();
+    let mut out = String::with_capacity(s.len());
+    let chars: Vec<char> = s.chars().collect();
+    for (i, &c) in chars.iter().enumerate() {
+        let prev = i.checked_sub(1).map(|j| chars[j]);
+        let next = chars.get(i + 1).copied();
+        let glue = |x: Option<char>| {
+            matches!(
+                x,
+                Some('<' | '>' | ':' | '&' | '(' | ')' | '[' | ']' | ',' | '\'')
+            )
+        };
+        if c == ' ' && (glue(prev) || glue(next)) && prev != Some(',') && next != Some('=') {
+            continue;
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Every parameter the body uses must be a field of type `f64`.
+fn check_fields(strukt: &ItemStruct, used: &[Param], shape: &str) -> Result<()> {
+    let mut errors = None;
+    let mut missing = Vec::new();
+    for &p in used {
+        let name = p.field();
+        match strukt
+            .fields
+            .iter()
+            .find(|f| f.ident.as_ref().is_some_and(|i| i.unraw() == name))
+        {
+            None => missing.push(name),
+            Some(f) if !is_f64(&f.ty) => combine(
+                &mut errors,
+                Error::new_spanned(
+                    &f.ty,
+                    format!(
+                        "field `{name}` is a parameter of shape `{shape}` and must be `f64`, found `{}`",
+                        show_type(&f.ty)
+                    ),
+                ),
+            ),
+            Some(_) => {}
+        }
+    }
+    if !missing.is_empty() {
+        let all: Vec<&str> = used.iter().map(|p| p.field()).collect();
+        combine(
+            &mut errors,
+            Error::new_spanned(
+                &strukt.ident,
+                format!(
+                    "struct `{}` is missing the field{} {}: shape `{shape}` needs the `f64` fields {} (other fields are allowed)",
+                    strukt.ident,
+                    if missing.len() == 1 { "" } else { "s" },
+                    missing.iter().map(|m| format!("`{m}: f64`")).collect::<Vec<_>>().join(", "),
+                    all.join(", ")
+                ),
+            ),
+        );
+    }
+    match errors {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// The generated impls for a generic struct: each `impl Trait for Name` becomes
+/// `impl<..> Trait for Name<..> where ..`.
+fn with_generics(code: &str, strukt: &ItemStruct) -> Result<TokenStream2> {
+    let mut file = syn::parse_file(code).map_err(|e| {
+        Error::new(
+            Span::call_site(),
+            format!("ffr-codegen produced invalid Rust (a bug): {e}"),
+        )
+    })?;
+    let ident = &strukt.ident;
+    let (_, ty_generics, _) = strukt.generics.split_for_impl();
+    let self_ty: Type = syn::parse_quote!(#ident #ty_generics);
+    for item in &mut file.items {
+        if let Item::Impl(imp) = item {
+            imp.generics = strukt.generics.clone();
+            *imp.self_ty = self_ty.clone();
+        }
+    }
+    Ok(file.into_token_stream())
+}

@@ -1,0 +1,22 @@
+//! Review changes of the generated code with `cargo insta review`: these
+//! snapshots hold exactly what `build.rs` writes (the body list is shared
+//! through `ffr_bodies.rs`). When ffr or a shape file changes, the test fails
+//! and shows the diff; accept it with `cargo insta review`.
+
+include!("../ffr_bodies.rs");
+
+#[test]
+fn generated_code() {
+    let files = ffr_bodies()
+        .manifest_dir(env!("CARGO_MANIFEST_DIR"))
+        .render()
+        .unwrap_or_else(|e| panic!("{e}"));
+    for f in files {
+        // The 8-element arm is ~150 kB of code; this example keeps only the
+        // small bodies under review. A crate of your own would keep them all.
+        if f.name == "arm" {
+            continue;
+        }
+        insta::assert_snapshot!(f.file_name.clone(), f.contents);
+    }
+}
