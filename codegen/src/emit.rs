@@ -152,27 +152,26 @@ fn invariants_fn(g: &Generated, rt: &str) -> String {
         Target::Mass => ("inv.mass".into(), None),
         Target::St0(k) => (format!("inv.s_t0[{k}]"), None),
         Target::SBar(k, a) => (format!("inv.s_bar[({k}, {a})]"), None),
-        Target::Skl(k, l, a, b) => {
-            let lhs = format!("inv.s_kl[{k}][{l}][({a}, {b})]");
-            let mirror = (k != l || a != b).then(|| format!("inv.s_kl[{l}][{k}][({b}, {a})]"));
-            (lhs, mirror)
-        }
+        Target::Skl(k, l, a, b) => (format!("inv.s_kl[{k}][{l}][({a}, {b})]"), None),
         Target::Ikl(k, l, a) => (format!("inv.i_kl[{k}][{l}][{a}]"), None),
-        Target::Theta(k, l) => (
-            format!("inv.theta[({k}, {l})]"),
-            (k != l).then(|| format!("inv.theta[({l}, {k})]")),
-        ),
-        Target::Mff(a, b) => (
-            format!("inv.m_ff[({a}, {b})]"),
-            (a != b).then(|| format!("inv.m_ff[({b}, {a})]")),
-        ),
-        Target::Kff(a, b) => (
-            format!("inv.k_ff[({a}, {b})]"),
-            (a != b).then(|| format!("inv.k_ff[({b}, {a})]")),
-        ),
+        Target::Theta(k, l) => (format!("inv.theta[({k}, {l})]"), None),
+        Target::Mff(a, b) => (format!("inv.m_ff[({a}, {b})]"), None),
+        Target::Kff(a, b) => (format!("inv.k_ff[({a}, {b})]"), None),
         other => unreachable!("{other:?} in invariants"),
     });
-    s.push_str("inv\n}\n");
+    // Each symmetric pair was computed once (upper triangle, k ≤ l): mirror.
+    s.push_str(
+        "inv.theta.fill_lower_triangle_with_upper_triangle();\n\
+         inv.m_ff.fill_lower_triangle_with_upper_triangle();\n\
+         inv.k_ff.fill_lower_triangle_with_upper_triangle();\n\
+         for k in 0..3 {\n\
+             inv.s_kl[k][k].fill_lower_triangle_with_upper_triangle();\n\
+             for l in k + 1..3 {\n\
+                 inv.s_kl[l][k] = inv.s_kl[k][l].transpose();\n\
+             }\n\
+         }\n\
+         inv\n}\n",
+    );
     s
 }
 
