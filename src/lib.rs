@@ -13,6 +13,7 @@ pub use nalgebra;
 pub mod cli;
 pub mod evaluated;
 pub mod plot;
+pub mod slider_crank;
 pub mod spin_up;
 
 pub use evaluated::EvaluatedBody;

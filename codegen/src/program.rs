@@ -98,7 +98,10 @@ impl Program {
         let tape = self.tape();
         let mut slots = Vec::new();
         tape.run(params, q, &mut slots);
-        tape.outputs.iter().map(|&(t, s)| (t, slots[s as usize])).collect()
+        tape.outputs
+            .iter()
+            .map(|&(t, s)| (t, slots[s as usize]))
+            .collect()
     }
 
     /// The program flattened into register operations, in the order the

@@ -13,6 +13,7 @@ use crate::rigid::RigidBody;
 use crate::system::{Pose, System};
 use nalgebra::{Matrix3xX, UnitQuaternion, Vector2, Vector3};
 use std::ops::ControlFlow;
+use std::sync::Arc;
 
 /// Highest node index among `kind_node` labels.
 pub fn last_node(labels: &[String]) -> Option<usize> {
@@ -329,9 +330,156 @@ pub const ROD_LENGTH: f64 = 0.30;
 /// Crank speed (rad/s).
 pub const CRANK_SPEED: f64 = 150.0;
 
+/// A planar displacement field along a beam body's x axis (`0 ≤ x ≤ L`):
+/// lateral `v(x)` (body y), its slope `v'(x)`, and axial `u(x)` (body x).
+/// Used for displacements and, likewise, for velocities `v̇, v̇', u̇`.
+#[derive(Clone)]
+pub struct BeamField {
+    /// Lateral displacement `v(x)`.
+    pub v: Arc<dyn Fn(f64) -> f64 + Send + Sync>,
+    /// Slope `v'(x)` (the small rotation about body z).
+    pub dv: Arc<dyn Fn(f64) -> f64 + Send + Sync>,
+    /// Axial displacement `u(x)`.
+    pub u: Arc<dyn Fn(f64) -> f64 + Send + Sync>,
+}
+
+impl std::fmt::Debug for BeamField {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "BeamField")
+    }
+}
+
+impl BeamField {
+    /// From closures `v`, `v'`, `u`.
+    pub fn new(
+        v: impl Fn(f64) -> f64 + Send + Sync + 'static,
+        dv: impl Fn(f64) -> f64 + Send + Sync + 'static,
+        u: impl Fn(f64) -> f64 + Send + Sync + 'static,
+    ) -> Self {
+        Self {
+            v: Arc::new(v),
+            dv: Arc::new(dv),
+            u: Arc::new(u),
+        }
+    }
+    /// The zero field.
+    pub fn zero() -> Self {
+        Self::new(|_| 0.0, |_| 0.0, |_| 0.0)
+    }
+    /// Nodal coordinates of a planar beam body of length `length` with
+    /// `N` equal elements (labels `kind_node`, nodes at `x_i = i L / N`):
+    /// `ux_i = u(x_i)`, `uy_i = v(x_i)`, `rz_i = v'(x_i)`. Coordinates the
+    /// reference conditions removed are simply absent; any other label
+    /// (a spatial or non-beam body) is an error.
+    pub fn nodal_coordinates(&self, labels: &[String], length: f64) -> Result<Vec<f64>> {
+        let n = last_node(labels)
+            .filter(|&n| n > 0)
+            .ok_or_else(|| Error::InvalidInput("body has no beam node labels".into()))?;
+        labels
+            .iter()
+            .map(|lab| {
+                let (kind, node) = lab
+                    .split_once('_')
+                    .and_then(|(k, i)| Some((k, i.parse::<usize>().ok()?)))
+                    .ok_or_else(|| Error::InvalidInput(format!("`{lab}` is no beam node label")))?;
+                let x = length * node as f64 / n as f64;
+                let val = match kind {
+                    "ux" => (self.u)(x),
+                    "uy" => (self.v)(x),
+                    "rz" => (self.dv)(x),
+                    _ => {
+                        return Err(Error::InvalidInput(format!(
+                            "`{lab}`: a planar beam field has no `{kind}` component"
+                        )))
+                    }
+                };
+                if val.is_finite() {
+                    Ok(val)
+                } else {
+                    Err(Error::InvalidInput(format!(
+                        "field is not finite at `{lab}`"
+                    )))
+                }
+            })
+            .collect()
+    }
+}
+
+/// The rod's initial elastic state.
+#[derive(Clone, Debug, Default)]
+pub enum RodElastic {
+    /// Undeformed, at rest relative to its frame.
+    #[default]
+    Undeformed,
+    /// Displacement and velocity fields projected onto a beam rod's nodal
+    /// coordinates ([`BeamField::nodal_coordinates`]).
+    Fields {
+        /// Displacements `v, v', u`.
+        q: BeamField,
+        /// Velocities `v̇, v̇', u̇`.
+        qd: BeamField,
+    },
+    /// The rod's elastic coordinates and velocities as they are (any body).
+    Coordinates {
+        /// `q_f`.
+        q_f: Vec<f64>,
+        /// `q̇_f`.
+        qd_f: Vec<f64>,
+    },
+}
+
+/// Initial conditions of the slider-crank at `t = 0` (crank angle 0, crank
+/// speed [`CRANK_SPEED`]). They are made consistent by the system's initial
+/// projection ([`System::initial_state`]): least-norm corrections onto the
+/// position and velocity constraints.
+#[derive(Clone, Debug)]
+pub struct SliderCrankInit {
+    /// Rod angle `φ₂` (rad; frame x axis from the crank pin to the slider pin).
+    pub rod_angle: f64,
+    /// Rod angular velocity `φ̇₂` (rad/s).
+    pub rod_rate: f64,
+    /// Slider position on the x axis (m).
+    pub slider_x: f64,
+    /// Slider velocity (m/s).
+    pub slider_v: f64,
+    /// Elastic state of the rod.
+    pub elastic: RodElastic,
+}
+
+impl SliderCrankInit {
+    /// The rigid mechanism at `θ = 0`: rod along +x, `φ̇₂ = −(l_c/l_r) θ̇`,
+    /// slider at `l_c + l_r` at rest, rod undeformed.
+    pub fn rigid() -> Self {
+        Self {
+            rod_angle: 0.0,
+            rod_rate: -CRANK_LENGTH / ROD_LENGTH * CRANK_SPEED,
+            slider_x: CRANK_LENGTH + ROD_LENGTH,
+            slider_v: 0.0,
+            elastic: RodElastic::Undeformed,
+        }
+    }
+}
+
+impl Default for SliderCrankInit {
+    fn default() -> Self {
+        Self::rigid()
+    }
+}
+
 /// Build the slider-crank with `rod` (planar beam of length 0.3 m and an even
-/// number of elements).
+/// number of elements), starting as the rigid mechanism ([`SliderCrankInit::rigid`]).
 pub fn slider_crank(rod: Box<dyn FlexBody>) -> Result<SliderCrank> {
+    slider_crank_with(rod, &SliderCrankInit::rigid())
+}
+
+/// The slider-crank with `rod` from the initial conditions `init`.
+///
+/// The rod may be any planar body whose elastic-coordinate labels name beam
+/// nodes (`kind_node`): the crank pin is node 0 (the frame origin), the slider
+/// pin node `N` at `x = 0.3 m`, and `N` must be even so that node `N/2` is the
+/// midpoint. With a `pinned` reference the frame is the chord frame and `uy`
+/// of the middle node is the midpoint deflection.
+pub fn slider_crank_with(rod: Box<dyn FlexBody>, init: &SliderCrankInit) -> Result<SliderCrank> {
     if rod.dim() != 2 {
         return Err(Error::InvalidInput(
             "the slider-crank is planar: the rod must be a dim-2 body".into(),
@@ -347,6 +495,14 @@ pub fn slider_crank(rod: Box<dyn FlexBody>) -> Result<SliderCrank> {
     }
     let mid = dof_index(&labels, &format!("uy_{}", n / 2))
         .ok_or_else(|| Error::InvalidInput("rod has no middle-node uy".into()))?;
+    let (q_f, qd_f) = match &init.elastic {
+        RodElastic::Undeformed => (None, None),
+        RodElastic::Fields { q, qd } => (
+            Some(q.nodal_coordinates(&labels, ROD_LENGTH)?),
+            Some(qd.nodal_coordinates(&labels, ROD_LENGTH)?),
+        ),
+        RodElastic::Coordinates { q_f, qd_f } => (Some(q_f.clone()), Some(qd_f.clone())),
+    };
     let (lc, lr, w) = (CRANK_LENGTH, ROD_LENGTH, CRANK_SPEED);
     let mut sys = System::planar();
     let j_pivot = 0.002727;
@@ -357,10 +513,10 @@ pub fn slider_crank(rod: Box<dyn FlexBody>) -> Result<SliderCrank> {
         Vector2::new(lc / 2.0, 0.0),
     );
     let c = sys.add_body(Box::new(crank), Pose::planar(0.0, 0.0, 0.0))?;
-    let r = sys.add_body(rod, Pose::planar(lc, 0.0, 0.0))?;
+    let r = sys.add_body(rod, Pose::planar(lc, 0.0, init.rod_angle))?;
     let s = sys.add_body(
         Box::new(RigidBody::planar(0.075552, 1e-6, Vector2::zeros())),
-        Pose::planar(lc + lr, 0.0, 0.0),
+        Pose::planar(init.slider_x, 0.0, 0.0),
     )?;
     // Crank: pivot at the origin, angle 150 t.
     sys.prescribe_coordinate(c, 0, Driver::constant(0.0))?;
@@ -377,13 +533,17 @@ pub fn slider_crank(rod: Box<dyn FlexBody>) -> Result<SliderCrank> {
     // Slider on the x axis, not turning.
     sys.prescribe_coordinate(s, 1, Driver::constant(0.0))?;
     sys.prescribe_coordinate(s, 2, Driver::constant(0.0))?;
-    // Rigid-mechanism initial velocities at θ = 0: rod ω = −(l_c/l_r) θ̇, rod origin at the crank tip.
+    // Velocities at θ = 0: crank tip (the rod origin) moves with l_c θ̇ along +y.
     sys.set_velocity(c, Vector3::zeros(), Vector3::new(0.0, 0.0, w))?;
     sys.set_velocity(
         r,
         Vector3::new(0.0, lc * w, 0.0),
-        Vector3::new(0.0, 0.0, -lc / lr * w),
+        Vector3::new(0.0, 0.0, init.rod_rate),
     )?;
+    sys.set_velocity(s, Vector3::new(init.slider_v, 0.0, 0.0), Vector3::zeros())?;
+    if let (Some(q_f), Some(qd_f)) = (q_f, qd_f) {
+        sys.set_elastic(r, &q_f, &qd_f)?;
+    }
     let mid_uy = sys.offset(r) + sys.body(r).f_offset() + mid;
     Ok(SliderCrank {
         system: sys,
@@ -392,6 +552,27 @@ pub fn slider_crank(rod: Box<dyn FlexBody>) -> Result<SliderCrank> {
         slider: s,
         mid_uy,
     })
+}
+
+/// Samples of a slider-crank run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SliderCrankRun {
+    /// Times (s).
+    pub t: Vec<f64>,
+    /// Rod angle `φ₂` (rad).
+    pub rod_angle: Vec<f64>,
+    /// Slider position `x₃` (m).
+    pub slider_x: Vec<f64>,
+    /// Midpoint deflection (m): `uy` of the rod's middle node.
+    pub mid_deflection: Vec<f64>,
+    /// Its rate (m/s).
+    pub mid_velocity: Vec<f64>,
+    /// The rod's elastic coordinates at the end.
+    pub rod_q_f: Vec<f64>,
+    /// Their rates at the end.
+    pub rod_qd_f: Vec<f64>,
+    /// The final state of the system.
+    pub last: Option<crate::system::State>,
 }
 
 impl SliderCrank {
@@ -409,5 +590,35 @@ impl SliderCrank {
             ControlFlow::Continue(())
         })?;
         Ok((t, y))
+    }
+
+    /// Run to `t_end` with step `dt`, sampling rod angle, slider position and
+    /// the midpoint deflection and its rate at every step.
+    pub fn run_samples(
+        &self,
+        t_end: f64,
+        dt: f64,
+        integrator: &Integrator,
+    ) -> Result<SliderCrankRun> {
+        let mut out = SliderCrankRun::default();
+        let (ir, is) = (
+            self.system.offset(self.rod) + 2,
+            self.system.offset(self.slider),
+        );
+        let summary = self.system.simulate(t_end, dt, integrator, |v| {
+            let (q, qd) = (&v.state.q, &v.state.v);
+            out.t.push(v.state.t);
+            out.rod_angle.push(q[ir]);
+            out.slider_x.push(q[is]);
+            out.mid_deflection.push(q[self.mid_uy]);
+            out.mid_velocity.push(qd[self.mid_uy]);
+            ControlFlow::Continue(())
+        })?;
+        let rod = self.system.body(self.rod);
+        let (fo, nf) = (self.system.offset(self.rod) + rod.f_offset(), rod.nf());
+        out.rod_q_f = summary.last.q.as_slice()[fo..fo + nf].to_vec();
+        out.rod_qd_f = summary.last.v.as_slice()[fo..fo + nf].to_vec();
+        out.last = Some(summary.last);
+        Ok(out)
     }
 }
