@@ -12,6 +12,8 @@ pub use nalgebra;
 
 pub mod cli;
 pub mod evaluated;
+pub mod free_floating;
+pub mod pendulum;
 pub mod plot;
 pub mod slider_crank;
 pub mod spin_up;
