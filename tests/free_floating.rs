@@ -153,3 +153,31 @@ fn rk4_momentum_drift_is_fourth_order_down_to_round_off() {
         assert!(last.dp < 5e-14 && last.dh < 5e-14, "{beam:?}: {last:?}");
     }
 }
+
+/// RK4 above its stability limit (`ω_max·dt` well above 2.8) blows up; the
+/// runtime must say so (`Error::Unstable`), not report a singular matrix.
+#[test]
+fn explicit_integrator_above_its_stability_limit_is_reported_unstable() {
+    let base = FreeFloatingArgs {
+        beam: Beam::Beam2,
+        t_end: 0.2,
+        ..FreeFloatingArgs::default()
+    };
+    let body = free_body(Beam::Beam2, base.elements as usize, true).unwrap();
+    let omega_max = ffr::free_floating::elastic_modes(&body).last().unwrap().0;
+    let args = FreeFloatingArgs {
+        dt: 6.0 / omega_max,
+        ..base
+    };
+    let (sys, _) = ffr::free_floating::system(&args).unwrap();
+    let run = sys.simulate(args.t_end, args.dt, &args.method.integrator(), |_| {
+        std::ops::ControlFlow::Continue(())
+    });
+    match run {
+        Err(e @ ffr::runtime::Error::Unstable { .. }) => {
+            assert!(e.to_string().contains("try a smaller step"), "{e}");
+        }
+        Err(other) => panic!("misreported blow-up: {other}"),
+        Ok(_) => panic!("RK4 at ω_max·dt = 6 did not blow up"),
+    }
+}

@@ -46,6 +46,15 @@ pub enum Error {
         /// Time at the start of the step.
         t: f64,
     },
+    /// The equations were evaluated at a state where they are no longer
+    /// finite (typically an explicit integrator above its stability limit).
+    #[error("non-finite {what} at t = {t:.6} s: the solution diverged; try a smaller step (an explicit integrator needs dt below about 2.8/ω_max of the stiffest elastic mode) or the implicit generalized-α")]
+    Unstable {
+        /// What was not finite.
+        what: &'static str,
+        /// Time of the evaluation.
+        t: f64,
+    },
     /// Initial conditions could not be made consistent with the constraints.
     #[error(
         "inconsistent initial conditions: constraint violation {violation:.3e} after projection"

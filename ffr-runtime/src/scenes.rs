@@ -210,7 +210,10 @@ pub fn spin_up(
     match run {
         Ok(_) => {}
         Err(
-            e @ (Error::NoConvergence { .. } | Error::NonFinite { .. } | Error::Singular { .. }),
+            e @ (Error::NoConvergence { .. }
+            | Error::NonFinite { .. }
+            | Error::Unstable { .. }
+            | Error::Singular { .. }),
         ) => {
             res.diverged = Some(Divergence {
                 t: res.t.last().copied().unwrap_or(0.0),

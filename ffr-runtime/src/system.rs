@@ -823,6 +823,12 @@ impl System {
             let g = self.gamma(t, q, v) - (&c.jac * v + &c.phi_t) * (2.0 * al) - &c.phi * (be * be);
             rhs.rows_mut(n, m).copy_from(&g);
         }
+        if !k.iter().chain(rhs.iter()).all(|x| x.is_finite()) {
+            return Err(Error::Unstable {
+                what: "mass matrix, forces or constraint terms",
+                t,
+            });
+        }
         let x = k.lu().solve(&rhs).ok_or(Error::Singular {
             what: "index-1 system [M Φ_qᵀ; Φ_q 0]",
             t,
