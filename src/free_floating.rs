@@ -48,10 +48,8 @@ use crate::runtime::nalgebra::{
     Cholesky, DMatrix, DVector, Matrix3, Matrix3xX, SymmetricEigen, Vector3, Vector4,
 };
 use crate::runtime::scenes;
-use crate::runtime::{
-    BodyId, BodyModel, FlexBody, GeneralizedAlpha, Integrator, Rk4Baumgarte, StepView, System,
-};
-use clap::{Args, ValueEnum};
+use crate::runtime::{BodyId, BodyModel, FlexBody, StepView, System};
+use clap::Args;
 use std::ops::ControlFlow;
 use std::time::Instant;
 
@@ -411,37 +409,9 @@ pub fn check_rates(
 
 // ------------------------------------------------------------ (2) trajectories
 
-/// The integrator of a trajectory.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Method {
-    /// Generalized-α (index 3), `ρ∞ = 1` (no numerical dissipation), Newton
-    /// tolerances tightened to `rtol = 1e-12`, `atol = 1e-14`.
-    Alpha,
-    /// Explicit RK4, Baumgarte `α = β = 10/s` on the Euler-parameter normalization.
-    Rk4,
-}
-
-impl Method {
-    /// The runtime integrator.
-    pub fn integrator(self) -> Integrator {
-        match self {
-            Method::Alpha => Integrator::GeneralizedAlpha(GeneralizedAlpha {
-                rho_inf: 1.0,
-                rtol: 1e-12,
-                atol: 1e-14,
-                max_iter: 30,
-            }),
-            Method::Rk4 => Integrator::Rk4(Rk4Baumgarte::default()),
-        }
-    }
-    /// Global order of accuracy.
-    pub fn order(self) -> f64 {
-        match self {
-            Method::Alpha => 2.0,
-            Method::Rk4 => 4.0,
-        }
-    }
-}
+/// The integrator of a trajectory: generalized-α runs with Newton
+/// tolerances tightened to `rtol = 1e-12`, `atol = 1e-14` (see [`drift`]).
+pub use crate::pendulum::Method;
 
 /// Options of a free-floating run.
 #[derive(Args, Clone, Debug, PartialEq)]
@@ -581,7 +551,7 @@ pub fn drift(args: &FreeFloatingArgs) -> Result<Drift, Box<dyn std::error::Error
     let summary = sys.simulate(
         args.t_end,
         args.dt,
-        &args.method.integrator(),
+        &args.method.integrator_with_tolerances(1e-12, 1e-14),
         |v: &StepView| {
             let (q, qd) = (&v.state.q, &v.state.v);
             let (p, h) = sys.momentum(q, qd);

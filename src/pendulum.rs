@@ -75,7 +75,7 @@ pub fn beam_body(
     EvaluatedBody::new(&spec, Options { stiffening: false }, params)
 }
 
-/// The integrator of a run.
+/// The integrator of a run (shared by the scenes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Method {
     /// Generalized-α (index 3) with `ρ∞ = 1`: no numerical dissipation.
@@ -85,11 +85,31 @@ pub enum Method {
 }
 
 impl Method {
-    /// The runtime integrator.
+    /// The runtime integrator with the runtime's default Newton tolerances.
     pub fn integrator(self) -> Integrator {
+        let d = GeneralizedAlpha::with_rho_inf(1.0);
+        self.integrator_with_tolerances(d.rtol, d.atol)
+    }
+
+    /// The runtime integrator; generalized-α's Newton iterations stop at
+    /// `rtol`, `atol` (RK4 has none).
+    pub fn integrator_with_tolerances(self, rtol: f64, atol: f64) -> Integrator {
         match self {
-            Method::Alpha => Integrator::GeneralizedAlpha(GeneralizedAlpha::with_rho_inf(1.0)),
+            Method::Alpha => Integrator::GeneralizedAlpha(GeneralizedAlpha {
+                rtol,
+                atol,
+                max_iter: 30,
+                ..GeneralizedAlpha::with_rho_inf(1.0)
+            }),
             Method::Rk4 => Integrator::Rk4(Rk4Baumgarte::default()),
+        }
+    }
+
+    /// Global order of accuracy.
+    pub fn order(self) -> f64 {
+        match self {
+            Method::Alpha => 2.0,
+            Method::Rk4 => 4.0,
         }
     }
 }
