@@ -138,3 +138,36 @@ fn beam3_thirty_two_elements_bit_for_bit() {
 fn beam2_with_stiffening_bit_for_bit() {
     check::<Beam2N4>("beam2", 4, true);
 }
+
+/// The trait's mass blocks against the theory-sheet table written out here
+/// with nalgebra's own cross-product matrix: `m_Rθ = −A S̃_t Ḡ`,
+/// `m_Rf = A S̄`, `m_θθ = Ḡᵀ Ī_θθ Ḡ`, `m_θf = Ḡᵀ Ī_θf`, for a rotation
+/// given by Euler parameters (`Ḡ = 2[−e, −ẽ + e₀I]`).
+#[test]
+fn mass_blocks_follow_the_theory_sheet() {
+    use nalgebra::{Matrix3, Matrix3xX, UnitQuaternion, Vector3};
+    let body = Beam3N8::from(params());
+    let inv = body.invariants();
+    let q = q_of(Beam3N8::NF, 1e-2);
+    let rot = UnitQuaternion::from_scaled_axis(Vector3::new(0.3, -0.7, 1.1));
+    let a = *rot.to_rotation_matrix().matrix();
+    let (e0, e) = (rot.w, rot.imag());
+    let mut g_bar = Matrix3xX::zeros(4);
+    g_bar.set_column(0, &(-2.0 * e));
+    g_bar
+        .columns_mut(1, 3)
+        .copy_from(&(2.0 * (Matrix3::identity() * e0 - e.cross_matrix())));
+    let b = body.mass_blocks(&inv, &q, &a, &g_bar);
+    let mut t = InertiaTerms::zeros(Beam3N8::NF);
+    body.inertia_terms(&q, &mut t);
+    let rel = |x: f64, scale: f64| x <= 1e-14 * scale;
+    assert_eq!(b.m_rr, inv.mass);
+    let m_rth = -(a * t.s_t.cross_matrix() * &g_bar);
+    assert!(rel((&b.m_r_theta - &m_rth).norm(), m_rth.norm()));
+    let m_rf = a * &inv.s_bar;
+    assert!(rel((&b.m_rf - &m_rf).norm(), m_rf.norm()));
+    let m_thth = g_bar.transpose() * t.i_theta_theta * &g_bar;
+    assert!(rel((&b.m_theta_theta - &m_thth).norm(), m_thth.norm()));
+    let m_thf = g_bar.transpose() * &t.i_theta_f;
+    assert!(rel((&b.m_theta_f - &m_thf).norm(), m_thf.norm()));
+}

@@ -156,6 +156,21 @@ pub trait FlexBody {
     /// (`q_f.len() == nf()`, `out` sized for `nf()`).
     fn inertia_terms(&self, q_f: &[f64], out: &mut InertiaTerms);
 
+    /// The mass-matrix blocks at `q_f` for rotation `A` and `Ḡ` (3 × n_θ),
+    /// from this body's invariants (pass them in: they are constant) and its
+    /// `q_f`-dependent terms. `m_ff` is `invariants.m_ff`.
+    fn mass_blocks(
+        &self,
+        invariants: &Invariants,
+        q_f: &[f64],
+        a: &Matrix3<f64>,
+        g_bar: &Matrix3xX<f64>,
+    ) -> MassBlocks {
+        let mut terms = InertiaTerms::zeros(self.nf());
+        self.inertia_terms(q_f, &mut terms);
+        MassBlocks::new(invariants, &terms, a, g_bar)
+    }
+
     /// Whether [`FlexBody::stiffening`] adds anything (geometric stiffening
     /// generated for this body).
     fn has_stiffening(&self) -> bool {
