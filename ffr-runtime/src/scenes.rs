@@ -10,8 +10,8 @@ use crate::error::{Error, Result};
 use crate::integrator::{GeneralizedAlpha, Integrator};
 use crate::marker::{dof_index, BodyId, Marker};
 use crate::rigid::RigidBody;
-use crate::system::{Pose, System};
-use nalgebra::{Matrix3xX, UnitQuaternion, Vector2, Vector3};
+use crate::system::{Pose, State, System};
+use nalgebra::{DVector, Matrix3xX, UnitQuaternion, Vector2, Vector3};
 use std::ops::ControlFlow;
 use std::sync::Arc;
 
@@ -148,26 +148,17 @@ pub fn spin_up_system(
     Ok((sys, b))
 }
 
-/// Run the spin-up. The tip is `tip_shape` (`S_P`, 3 × n_f) if given, else
-/// the last node's `ux`/`uy` coordinates. Divergence (|tip| > L, `L = 2 S_t0,x/m`)
-/// or an integrator failure stops the run and is reported in
-/// [`SpinUpResult::diverged`]; bad input is an `Err`.
-pub fn spin_up(
-    body: Box<dyn FlexBody>,
-    tip_shape: Option<Matrix3xX<f64>>,
-    cfg: &SpinUp,
-) -> Result<SpinUpResult> {
-    let length = beam_length(body.as_ref());
+/// The tip's `S_P` for a spin-up run: `tip_shape` if given (3 × n_f), else
+/// the last node's translations (which must include `ux` and `uy`).
+fn spin_up_tip(body: &dyn FlexBody, tip_shape: Option<Matrix3xX<f64>>) -> Result<Matrix3xX<f64>> {
     let labels = body.dof_labels();
     let nf = body.nf();
-    let tip = match tip_shape {
-        Some(s) if s.ncols() == nf => s,
-        Some(s) => {
-            return Err(Error::InvalidInput(format!(
-                "tip shape has {} columns, n_f = {nf}",
-                s.ncols()
-            )))
-        }
+    match tip_shape {
+        Some(s) if s.ncols() == nf => Ok(s),
+        Some(s) => Err(Error::InvalidInput(format!(
+            "tip shape has {} columns, n_f = {nf}",
+            s.ncols()
+        ))),
         None => {
             let n = last_node(&labels).ok_or_else(|| {
                 Error::InvalidInput("body has no node labels; pass the tip shape".into())
@@ -181,20 +172,36 @@ pub fn spin_up(
                     "no ux_{n}/uy_{n} coordinates; pass the tip shape"
                 )));
             }
-            node_shape(body.as_ref(), n)
+            Ok(node_shape(body, n))
         }
-    };
-    let (sys, b) = spin_up_system(body, cfg.omega_s, cfg.t_ramp, cfg.stiffening)?;
+    }
+}
+
+/// Integrate a spin-up system, recording the tip (`tip * q_f`, hub frame)
+/// and the hub angle `hub_angle(q)`; `extra` sees every state. Divergence
+/// (|tip| > `length`) or an integrator failure ends the run and is reported
+/// in [`SpinUpResult::diverged`].
+fn run_spin_up(
+    sys: &System,
+    b: BodyId,
+    tip: &Matrix3xX<f64>,
+    length: f64,
+    cfg: &SpinUp,
+    mut hub_angle: impl FnMut(&DVector<f64>) -> f64,
+    mut extra: impl FnMut(&State),
+) -> Result<SpinUpResult> {
+    let nf = sys.body(b).nf();
     let fo = sys.offset(b) + sys.body(b).f_offset();
     let mut res = SpinUpResult::default();
     let run = sys.simulate(cfg.t_end, cfg.dt, &cfg.integrator, |v| {
         let q = &v.state.q;
         let qf = q.rows(fo, nf);
-        let u = &tip * qf;
+        let u = tip * qf;
         res.t.push(v.state.t);
-        res.hub_angle.push(q[sys.offset(b) + 2]);
+        res.hub_angle.push(hub_angle(q));
         res.tip_axial.push(u.x);
         res.tip_transverse.push(u.y);
+        extra(v.state);
         if u.norm() > length {
             res.diverged = Some(Divergence {
                 t: v.state.t,
@@ -223,6 +230,140 @@ pub fn spin_up(
         Err(e) => return Err(e),
     }
     Ok(res)
+}
+
+/// Run the spin-up. The tip is `tip_shape` (`S_P`, 3 × n_f) if given, else
+/// the last node's `ux`/`uy` coordinates. Divergence (|tip| > L, `L = 2 S_t0,x/m`)
+/// or an integrator failure stops the run and is reported in
+/// [`SpinUpResult::diverged`]; bad input is an `Err`.
+pub fn spin_up(
+    body: Box<dyn FlexBody>,
+    tip_shape: Option<Matrix3xX<f64>>,
+    cfg: &SpinUp,
+) -> Result<SpinUpResult> {
+    let length = beam_length(body.as_ref());
+    let tip = spin_up_tip(body.as_ref(), tip_shape)?;
+    let (sys, b) = spin_up_system(body, cfg.omega_s, cfg.t_ramp, cfg.stiffening)?;
+    let ith = sys.offset(b) + 2;
+    run_spin_up(&sys, b, &tip, length, cfg, |q| q[ith], |_| {})
+}
+
+// ------------------------------------------------------------------ spin-up in space
+
+/// The spin-up modelled in space: the body (planar or spatial) in a spatial
+/// scene with Euler parameters, its frame origin held at the global origin
+/// and its frame turned about global z by the spin-up angle `θ(t)`
+/// ([`Driver::spin_up`]). The hub is a revolute joint between a ground
+/// marker at the origin and the body-frame origin (`R = 0`, `z_g · x_b =
+/// z_g · y_b = 0`: the rotations about x and y are locked), driven by
+/// [`System::prescribe_rotation`] (`sin(φ − θ(t)) = 0`).
+///
+/// Together with the Euler-parameter normalization these are 7 equations
+/// on the 7 frame coordinates, independent wherever the body's z axis is
+/// the global one (`e1 = e2 = 0`).
+pub fn spin_up_spatial_system(
+    body: Box<dyn FlexBody>,
+    omega_s: f64,
+    t_ramp: f64,
+    stiffening: bool,
+) -> Result<(System, BodyId)> {
+    if !(omega_s.is_finite() && t_ramp > 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "spin-up needs finite ω_s and T > 0 (got {omega_s}, {t_ramp})"
+        )));
+    }
+    let mut sys = System::spatial();
+    let b = sys.add_body(body, Pose::identity(3))?;
+    sys.set_stiffening(b, stiffening)?;
+    let hub = Marker::ground(Vector3::zeros());
+    sys.revolute(hub.clone(), Marker::origin(b))?;
+    sys.prescribe_rotation(hub, Marker::origin(b), Driver::spin_up(omega_s, t_ramp))?;
+    Ok((sys, b))
+}
+
+/// A spin-up run in space ([`spin_up_spatial`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SpinUpSpatialResult {
+    /// The same history as the planar [`spin_up`]: hub angle (from the Euler
+    /// parameters, `2 atan2(e3, e0)` unwrapped) and the tip's in-plane
+    /// displacement in the hub frame.
+    pub in_plane: SpinUpResult,
+    /// Tip displacement along the hub-frame z axis (out of the plane; m).
+    pub tip_lateral: Vec<f64>,
+    /// Torsion rotation `rx` of the tip node (rad; 0 if the body has none).
+    pub tip_torsion: Vec<f64>,
+    /// Largest `|·|` of all out-of-plane coordinates: `R_z`, `e1`, `e2` and
+    /// every elastic coordinate labelled `uz`, `rx` or `ry`.
+    pub out_of_plane: Vec<f64>,
+    /// Euler-parameter normalization `eᵀe − 1`.
+    pub normalization: Vec<f64>,
+    /// Hub angle error `φ − θ(t)` (rad).
+    pub angle_error: Vec<f64>,
+    /// Hub rate `ω_z = (A Ḡ ė)_z` (rad/s), the integrator's velocity of the
+    /// Euler parameters mapped to the angular velocity about global z.
+    pub hub_rate: Vec<f64>,
+}
+
+/// Run the spin-up in space ([`spin_up_spatial_system`]) with the settings of
+/// the planar run; the tip is `tip_shape` or the last node as in [`spin_up`].
+pub fn spin_up_spatial(
+    body: Box<dyn FlexBody>,
+    tip_shape: Option<Matrix3xX<f64>>,
+    cfg: &SpinUp,
+) -> Result<SpinUpSpatialResult> {
+    let length = beam_length(body.as_ref());
+    let tip = spin_up_tip(body.as_ref(), tip_shape)?;
+    let labels = body.dof_labels();
+    let torsion = last_node(&labels).and_then(|n| dof_index(&labels, &format!("rx_{n}")));
+    let (sys, b) = spin_up_spatial_system(body, cfg.omega_s, cfg.t_ramp, cfg.stiffening)?;
+    let (o, fo, nf) = (
+        sys.offset(b),
+        sys.offset(b) + sys.body(b).f_offset(),
+        sys.body(b).nf(),
+    );
+    let out_f: Vec<usize> = labels
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| matches!(l.split_once('_'), Some(("uz" | "rx" | "ry", _))))
+        .map(|(j, _)| fo + j)
+        .collect();
+    let out_idx: Vec<usize> = [o + 2, o + 4, o + 5].into_iter().chain(out_f).collect();
+    let driver = Driver::spin_up(cfg.omega_s, cfg.t_ramp);
+    let mut extra = SpinUpSpatialResult::default();
+    let mut phi_prev = 0.0;
+    let hub_angle = |q: &DVector<f64>| {
+        // 2 atan2(e3, e0) is the angle modulo 2π (e and −e are one rotation);
+        // unwrap to the branch nearest the previous sample.
+        let raw = 2.0 * q[o + 6].atan2(q[o + 3]);
+        let tau = 2.0 * std::f64::consts::PI;
+        let phi = raw + tau * ((phi_prev - raw) / tau).round();
+        phi_prev = phi;
+        phi
+    };
+    let in_plane = run_spin_up(&sys, b, &tip, length, cfg, hub_angle, |s| {
+        let q = &s.q;
+        let qf = q.rows(fo, nf);
+        extra.tip_lateral.push((&tip * qf).z);
+        extra
+            .tip_torsion
+            .push(torsion.map(|j| q[fo + j]).unwrap_or(0.0));
+        extra
+            .out_of_plane
+            .push(out_idx.iter().map(|&j| q[j].abs()).fold(0.0, f64::max));
+        extra
+            .normalization
+            .push(q.rows(o + 3, 4).norm_squared() - 1.0);
+        let fr = sys.body(b).frame(sys.body_slice(b, q));
+        extra.hub_rate.push((fr.a * (&fr.g * s.v.rows(o + 3, 4))).z);
+    })?;
+    extra.angle_error = in_plane
+        .t
+        .iter()
+        .zip(&in_plane.hub_angle)
+        .map(|(&t, &phi)| phi - driver.eval(t)[0])
+        .collect();
+    extra.in_plane = in_plane;
+    Ok(extra)
 }
 
 /// Convergence study of the spin-up: for each `(body, dt)` the transverse tip
