@@ -239,31 +239,6 @@ impl BodySpec {
             .collect()
     }
 
-    /// Which runtime parameters the invariants and stiffness use.
-    pub fn used_params(&self) -> Result<Vec<Param>, Error> {
-        let inv = self.exact_invariants()?;
-        let mut used = std::collections::BTreeSet::new();
-        let mut visit = |p: &Poly| {
-            for (m, _) in p.terms() {
-                for &(s, _) in m.factors() {
-                    if let Sym::Param(q) = s {
-                        used.insert(q);
-                    }
-                }
-            }
-        };
-        visit(&inv.mass);
-        inv.s_t0.iter().for_each(&mut visit);
-        inv.theta.iter().flatten().for_each(&mut visit);
-        inv.s_bar.data.iter().for_each(&mut visit);
-        inv.m_ff.data.iter().for_each(&mut visit);
-        inv.k_ff.data.iter().for_each(&mut visit);
-        inv.i_kl.iter().flatten().flatten().for_each(&mut visit);
-        // A body always has a length: it places the nodes.
-        used.insert(Param::Length);
-        Ok(used.into_iter().collect())
-    }
-
     /// `∫ f dA` over the section by the model's rules (`∫dA = A`,
     /// `∫y dA = ∫z dA = ∫yz dA = 0`, `∫y² dA = I_z`, `∫z² dA = I_y`, with
     /// `η = y/l`, `ζ = z/l`).
@@ -641,11 +616,5 @@ impl BodySpec {
             &rat(1, self.elements as i64),
             Sym::Param(Param::Length),
         )
-    }
-
-    /// Whether the shape has any centreline slope coupling for stiffening
-    /// (the energy is not identically zero).
-    pub fn has_stiffening(&self) -> bool {
-        !self.stiffening_energy().is_zero()
     }
 }

@@ -422,23 +422,6 @@ impl Poly {
         self.terms.keys().any(|m| m.exp(s) != 0)
     }
 
-    /// The highest exponent of `s` in any term (0 if absent).
-    pub fn degree_in(&self, s: Sym) -> i32 {
-        self.terms.keys().map(|m| m.exp(s)).max().unwrap_or(0)
-    }
-
-    /// Evaluate with `value(s)` for every symbol, in f64 (for tests and checks).
-    pub fn eval_f64(&self, value: impl Fn(Sym) -> f64) -> f64 {
-        self.terms
-            .iter()
-            .map(|(m, c)| {
-                m.factors()
-                    .iter()
-                    .fold(to_f64(c), |acc, &(s, e)| acc * value(s).powi(e))
-            })
-            .sum()
-    }
-
     /// The constant term's coefficient if the polynomial is a constant.
     pub fn as_constant(&self) -> Option<Rational> {
         match self.terms.len() {
