@@ -1,15 +1,17 @@
 //! `build.rs` integration in the style of `prost-build`: generate one Rust
-//! file per body into `OUT_DIR`.
+//! file per body (or per kernel set) into `OUT_DIR`.
 //!
 //! ```no_run
 //! // build.rs
-//! use ffr_codegen::{Builder, Formalism, Reference};
+//! use ffr_codegen::builder::{BodyConfig, Builder};
+//! use ffr_codegen::{Formalism, Reference, Stiffening};
 //!
 //! fn main() {
 //!     Builder::new()
-//!         .body("arm", "beam3", 8, Reference::Clamped)
-//!         .body("bar", "shapes/bar.toml", 4, Reference::Clamped)
-//!         .formalism(Formalism::Lumped) // applies to `bar`, the last body added
+//!         .body(BodyConfig::new("arm", "beam3", 8, Reference::Clamped)
+//!             .stiffening(Stiffening::FourthOrder))
+//!         .body(BodyConfig::new("bar", "shapes/bar.toml", 4, Reference::Clamped)
+//!             .formalism(Formalism::Lumped))
 //!         .compile()
 //!         .unwrap_or_else(|e| panic!("{e}"));
 //! }
@@ -17,37 +19,173 @@
 //!
 //! and in the crate, `include!(concat!(env!("OUT_DIR"), "/arm.rs"));` defines
 //! `pub struct Arm` (all parameter fields, `f64`) implementing
-//! `ffr::runtime::FlexBody` and `CompiledBody` — the same code the
-//! `#[ffr::flex_body]` attribute expands to.
+//! `ffr::runtime::CompiledBody`, and its element kernels `ArmKernels` — the
+//! same code the `#[ffr::flex_body]` attribute expands to. Every option
+//! belongs to the body it is given for.
 
 use crate::body::{BodySpec, Formalism, Reference};
-use crate::emit::{emit_file, EmitOptions};
+use crate::emit::{emit_body_file, emit_kernels_file, EmitOptions};
+use crate::eom::KernelModel;
 use crate::error::Error;
-use crate::generate::{generate, Options};
+use crate::kernel::generate_kernels;
 use crate::shape::Shape;
+use ffr_spec::Stiffening;
 use std::path::{Path, PathBuf};
 
-/// A body to generate: what [`Builder::body`] records.
-#[derive(Clone, Debug)]
-struct BodyConfig {
-    name: String,
-    shape: String,
-    elements: usize,
-    reference: Reference,
-    formalism: Formalism,
-    stiffening: bool,
+/// The options of one set of element kernels.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct KernelConfig {
+    /// Name: the file is `<name>.rs`, the type the CamelCase of the name
+    /// (plus `Kernels` for a body).
+    pub name: String,
+    /// A built-in shape (`beam2`, `beam3`) or a path to a shape file.
+    pub shape: String,
+    /// Inertia formalism (default consistent).
+    pub formalism: Formalism,
+    /// Stiffening model (default off).
+    pub stiffening: Stiffening,
+    /// Scene dimension the kernels are for (default: the shape's).
+    pub scene_dim: Option<usize>,
+    /// Generate the reference rows for a freely moving frame (default yes);
+    /// `false` only supports prescribed frame motion.
+    pub free_frame: bool,
 }
 
-/// Generates FFR body code from a build script (see the [module docs](self)).
+impl KernelConfig {
+    /// Kernels for `shape`, consistent, no stiffening, the shape's own scene
+    /// dimension, free frame.
+    pub fn new(name: &str, shape: impl AsRef<str>) -> Self {
+        Self {
+            name: name.to_string(),
+            shape: shape.as_ref().to_string(),
+            formalism: Formalism::Consistent,
+            stiffening: Stiffening::Off,
+            scene_dim: None,
+            free_frame: true,
+        }
+    }
+    /// The inertia formalism.
+    pub fn formalism(mut self, f: Formalism) -> Self {
+        self.formalism = f;
+        self
+    }
+    /// The stiffening model.
+    pub fn stiffening(mut self, s: Stiffening) -> Self {
+        self.stiffening = s;
+        self
+    }
+    /// The scene dimension (a planar shape in a spatial scene needs 3).
+    pub fn scene_dim(mut self, d: usize) -> Self {
+        self.scene_dim = Some(d);
+        self
+    }
+    /// Whether the body's frame moves freely (else: prescribed).
+    pub fn free_frame(mut self, on: bool) -> Self {
+        self.free_frame = on;
+        self
+    }
+
+    /// The kernel model, with relative shape paths resolved against `base`.
+    pub fn model(&self, base: &Path) -> Result<KernelModel, Error> {
+        let shape = resolve_shape(&self.shape, base)?;
+        let scene_dim = self.scene_dim.unwrap_or(shape.dimension);
+        if scene_dim != 2 && scene_dim != 3 {
+            return Err(Error::Body(format!(
+                "scene dimension must be 2 or 3, found {scene_dim}"
+            )));
+        }
+        if scene_dim < shape.dimension {
+            return Err(Error::Body(format!(
+                "shape `{}` is spatial: it needs a spatial scene (scene dimension 3)",
+                shape.name
+            )));
+        }
+        Ok(KernelModel {
+            shape,
+            formalism: self.formalism,
+            stiffening: self.stiffening,
+            scene_dim,
+            free_frame: self.free_frame,
+        })
+    }
+}
+
+/// A body with a fixed mesh: kernels plus element count and reference.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BodyConfig {
+    /// The kernels' options (the name is the body's).
+    pub kernels: KernelConfig,
+    /// Number of elements.
+    pub elements: usize,
+    /// Reference condition.
+    pub reference: Reference,
+}
+
+impl BodyConfig {
+    /// `elements` equal elements of `shape` (a built-in name or a path to a
+    /// `.toml` shape file, relative to the crate root) with the given
+    /// reference condition, consistent formalism, no stiffening. It is
+    /// written to `<name>.rs` and its type is the CamelCase of `name`
+    /// (`two_link_arm` → `TwoLinkArm`), so `name` must be a Rust identifier.
+    pub fn new(name: &str, shape: impl AsRef<str>, elements: usize, reference: Reference) -> Self {
+        Self {
+            kernels: KernelConfig::new(name, shape),
+            elements,
+            reference,
+        }
+    }
+    /// The inertia formalism.
+    pub fn formalism(mut self, f: Formalism) -> Self {
+        self.kernels.formalism = f;
+        self
+    }
+    /// The stiffening model.
+    pub fn stiffening(mut self, s: Stiffening) -> Self {
+        self.kernels.stiffening = s;
+        self
+    }
+    /// The scene dimension.
+    pub fn scene_dim(mut self, d: usize) -> Self {
+        self.kernels.scene_dim = Some(d);
+        self
+    }
+    /// Whether the body's frame moves freely.
+    pub fn free_frame(mut self, on: bool) -> Self {
+        self.kernels.free_frame = on;
+        self
+    }
+}
+
+#[derive(Clone, Debug)]
+enum Entry {
+    Body(BodyConfig),
+    Kernels(KernelConfig),
+}
+
+impl Entry {
+    fn name(&self) -> &str {
+        match self {
+            Entry::Body(b) => &b.kernels.name,
+            Entry::Kernels(k) => &k.name,
+        }
+    }
+    fn shape(&self) -> &str {
+        match self {
+            Entry::Body(b) => &b.kernels.shape,
+            Entry::Kernels(k) => &k.shape,
+        }
+    }
+}
+
+/// Generates FFR code from a build script (see the [module docs](self)).
 #[derive(Clone, Debug)]
 #[must_use = "a Builder does nothing until `compile` (or `render`) is called"]
 pub struct Builder {
-    bodies: Vec<BodyConfig>,
+    entries: Vec<Entry>,
     out_dir: Option<PathBuf>,
     manifest_dir: Option<PathBuf>,
     runtime_path: String,
     rerun_if_changed: bool,
-    misuse: Option<String>,
 }
 
 impl Default for Builder {
@@ -59,15 +197,16 @@ impl Default for Builder {
 /// One generated file, before it is written.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct GeneratedFile {
-    /// The body name given to [`Builder::body`] (e.g. `two_link_arm`).
+    /// The name given (e.g. `two_link_arm`).
     pub name: String,
-    /// The generated type (CamelCase of the name, e.g. `TwoLinkArm`).
+    /// The generated type (CamelCase of the name, e.g. `TwoLinkArm`; for
+    /// kernels only, `TwoLinkArm` is the kernel type).
     pub type_name: String,
     /// The file name in the output directory (`<name>.rs`).
     pub file_name: String,
     /// The formatted Rust source.
     pub contents: String,
-    /// The shape file the body was generated from (`None` for a built-in shape).
+    /// The shape file the code was generated from (`None` for a built-in shape).
     pub shape_file: Option<PathBuf>,
 }
 
@@ -77,61 +216,24 @@ impl Builder {
     /// to the runtime as `::ffr::runtime`.
     pub fn new() -> Self {
         Self {
-            bodies: Vec::new(),
+            entries: Vec::new(),
             out_dir: None,
             manifest_dir: None,
             runtime_path: EmitOptions::default().runtime_path,
             rerun_if_changed: true,
-            misuse: None,
         }
     }
 
-    /// Add a body: `elements` equal elements of `shape` (a built-in name such
-    /// as `beam3`, or a path to a `.toml` shape file, relative to the crate
-    /// root) with the given reference condition, consistent formalism and no
-    /// geometric stiffening. It is written to `<name>.rs` and its type is the
-    /// CamelCase of `name` (`two_link_arm` → `TwoLinkArm`), so `name` must be
-    /// a Rust identifier.
-    pub fn body(
-        mut self,
-        name: &str,
-        shape: impl AsRef<str>,
-        elements: usize,
-        reference: Reference,
-    ) -> Self {
-        self.bodies.push(BodyConfig {
-            name: name.to_string(),
-            shape: shape.as_ref().to_string(),
-            elements,
-            reference,
-            formalism: Formalism::Consistent,
-            stiffening: false,
-        });
+    /// Add a body with a fixed mesh.
+    pub fn body(mut self, body: BodyConfig) -> Self {
+        self.entries.push(Entry::Body(body));
         self
     }
 
-    fn last_body(&mut self, what: &str) -> Option<&mut BodyConfig> {
-        if self.bodies.is_empty() && self.misuse.is_none() {
-            self.misuse = Some(format!(
-                "Builder::{what} applies to the last body added, but no body was added before it (call Builder::body first)"
-            ));
-        }
-        self.bodies.last_mut()
-    }
-
-    /// The inertia formalism of the last body added (default: consistent).
-    pub fn formalism(mut self, formalism: Formalism) -> Self {
-        if let Some(b) = self.last_body("formalism") {
-            b.formalism = formalism;
-        }
-        self
-    }
-
-    /// Whether the last body added gets geometric stiffening (default: no).
-    pub fn stiffening(mut self, stiffening: bool) -> Self {
-        if let Some(b) = self.last_body("stiffening") {
-            b.stiffening = stiffening;
-        }
+    /// Add element kernels only (the mesh is chosen at run time with
+    /// `ffr_runtime::KernelBody::new`).
+    pub fn kernels(mut self, kernels: KernelConfig) -> Self {
+        self.entries.push(Entry::Kernels(kernels));
         self
     }
 
@@ -170,45 +272,49 @@ impl Builder {
             .unwrap_or_else(|| PathBuf::from("."))
     }
 
-    /// Generate every body without writing anything (for snapshot tests of
+    /// Generate every entry without writing anything (for snapshot tests of
     /// the generated code; [`Builder::compile`] writes exactly these contents).
     pub fn render(&self) -> Result<Vec<GeneratedFile>, Error> {
-        if let Some(m) = &self.misuse {
-            return Err(Error::Body(m.clone()));
-        }
         let base = self.base_dir();
         let mut seen: Vec<(&str, String)> = Vec::new();
         let mut files = Vec::new();
-        for b in &self.bodies {
-            let type_name = type_name_of(&b.name)?;
-            if let Some((other, _)) = seen.iter().find(|(n, t)| *n == b.name || *t == type_name) {
+        for entry in &self.entries {
+            let name = entry.name();
+            let type_name = type_name_of(name)?;
+            if let Some((other, _)) = seen.iter().find(|(n, t)| *n == name || *t == type_name) {
                 return Err(Error::Body(format!(
-                    "bodies `{other}` and `{}` would both define `{type_name}`: body names must differ",
-                    b.name
+                    "bodies `{other}` and `{name}` would both define `{type_name}`: names must differ"
                 )));
             }
-            seen.push((&b.name, type_name.clone()));
-            let shape = resolve_shape(&b.shape, &base)?;
-            let shape_file = shape.path.clone();
-            let spec = BodySpec::new(shape, b.elements, b.reference)?.with_formalism(b.formalism);
-            let g = generate(
-                &spec,
-                Options {
-                    stiffening: b.stiffening,
-                },
-            )?;
-            let contents = emit_file(
-                &g,
-                &EmitOptions {
-                    type_name: type_name.clone(),
-                    define_struct: true,
-                    runtime_path: self.runtime_path.clone(),
-                },
-            );
+            seen.push((name, type_name.clone()));
+            let (contents, shape_file) = match entry {
+                Entry::Body(b) => {
+                    let model = b.kernels.model(&base)?;
+                    let shape_file = model.shape.path.clone();
+                    let spec = BodySpec::new(model.shape.clone(), b.elements, b.reference)?
+                        .with_formalism(b.kernels.formalism);
+                    let set = generate_kernels(&model)?;
+                    let opts = EmitOptions {
+                        type_name: type_name.clone(),
+                        define_struct: true,
+                        runtime_path: self.runtime_path.clone(),
+                    };
+                    (emit_body_file(&set, &spec, &opts), shape_file)
+                }
+                Entry::Kernels(k) => {
+                    let model = k.model(&base)?;
+                    let shape_file = model.shape.path.clone();
+                    let set = generate_kernels(&model)?;
+                    (
+                        emit_kernels_file(&set, &type_name, &self.runtime_path),
+                        shape_file,
+                    )
+                }
+            };
             files.push(GeneratedFile {
-                name: b.name.clone(),
+                name: name.to_string(),
                 type_name,
-                file_name: format!("{}.rs", b.name),
+                file_name: format!("{name}.rs"),
                 contents,
                 shape_file,
             });
@@ -216,7 +322,7 @@ impl Builder {
         Ok(files)
     }
 
-    /// Generate every body and write `<name>.rs` into the output directory
+    /// Generate every entry and write `<name>.rs` into the output directory
     /// (`OUT_DIR` unless [`Builder::out_dir`] was given). A file is written
     /// only when its contents change, through a temporary file and a rename,
     /// so an interrupted build never leaves half a file. Prints
@@ -251,14 +357,15 @@ impl Builder {
             .collect()
     }
 
-    /// `cargo:rerun-if-changed=…` for each body whose shape is a file.
+    /// `cargo:rerun-if-changed=…` for each entry whose shape is a file.
     fn rerun_lines(&self) -> Vec<String> {
         let base = self.base_dir();
         let mut lines: Vec<String> = self
-            .bodies
+            .entries
             .iter()
-            .filter(|b| Shape::builtin(&b.shape).is_none() && looks_like_path(&b.shape))
-            .map(|b| format!("cargo:rerun-if-changed={}", base.join(&b.shape).display()))
+            .map(Entry::shape)
+            .filter(|s| Shape::builtin(s).is_none() && looks_like_path(s))
+            .map(|s| format!("cargo:rerun-if-changed={}", base.join(s).display()))
             .collect();
         lines.dedup();
         lines
@@ -409,10 +516,14 @@ y = ["0", "1 - xi", "0", "xi"]
         let b = Builder::new()
             .manifest_dir(&dir)
             .out_dir(&out)
-            .body("arm", "beam2", 2, Reference::Clamped)
-            .stiffening(true)
-            .body("my_bar", "shapes/bar.toml", 3, Reference::Pinned)
-            .formalism(Formalism::Lumped);
+            .body(
+                BodyConfig::new("arm", "beam2", 2, Reference::Clamped)
+                    .stiffening(Stiffening::FourthOrder),
+            )
+            .body(
+                BodyConfig::new("my_bar", "shapes/bar.toml", 3, Reference::Pinned)
+                    .formalism(Formalism::Lumped),
+            );
         let paths = b.compile().unwrap();
         assert_eq!(paths, vec![out.join("arm.rs"), out.join("my_bar.rs")]);
         let bar = std::fs::read_to_string(&paths[1]).unwrap();
@@ -420,7 +531,7 @@ y = ["0", "1 - xi", "0", "xi"]
         assert!(bar.contains("shape `bar` (shapes/bar.toml, fnv1a"), "{bar}");
         assert!(bar.contains("lumped formalism"), "{bar}");
         let arm = std::fs::read_to_string(&paths[0]).unwrap();
-        assert!(arm.contains("fn has_stiffening(&self) -> bool"), "{arm}");
+        assert!(arm.contains("stiffening FourthOrder") || arm.contains("stiffening fourth-order"), "{arm}");
         assert_eq!(
             b.rerun_lines(),
             vec![format!(
@@ -472,33 +583,29 @@ y = ["0", "1 - xi", "0", "xi"]
                 .to_string()
         };
         assert_eq!(
-            err(Builder::new().body("arm", "beam3", 0, Reference::Clamped)),
+            err(Builder::new().body(BodyConfig::new("arm", "beam3", 0, Reference::Clamped))),
             "invalid body: elements must be at least 1, found 0"
         );
         assert_eq!(
-            err(Builder::new().body("arm", "beam4", 2, Reference::Clamped)),
+            err(Builder::new().body(BodyConfig::new("arm", "beam4", 2, Reference::Clamped))),
             "unknown shape `beam4`: expected one of beam2, beam3, or a path to a .toml shape file"
         );
         assert_eq!(
-            err(Builder::new().body("arm", "bad.toml", 2, Reference::Clamped)),
+            err(Builder::new().body(BodyConfig::new("arm", "bad.toml", 2, Reference::Clamped))),
             "bad.toml:2:13: dimension must be 2 (planar) or 3 (spatial), found 4"
         );
         assert!(
-            err(Builder::new().body("arm", "missing.toml", 2, Reference::Clamped))
+            err(Builder::new().body(BodyConfig::new("arm", "missing.toml", 2, Reference::Clamped)))
                 .starts_with(&format!("{}: ", dir.join("missing.toml").display()))
         );
         assert!(
-            err(Builder::new().body("arm-1", "beam3", 2, Reference::Clamped))
+            err(Builder::new().body(BodyConfig::new("arm-1", "beam3", 2, Reference::Clamped)))
                 .contains("body name `arm-1` is not a Rust identifier")
         );
         assert!(err(Builder::new()
-            .body("arm", "beam3", 2, Reference::Clamped)
-            .body("arm", "beam2", 2, Reference::Clamped))
+            .body(BodyConfig::new("arm", "beam3", 2, Reference::Clamped))
+            .body(BodyConfig::new("arm", "beam2", 2, Reference::Clamped)))
         .contains("bodies `arm` and `arm` would both define `Arm`"));
-        assert!(err(Builder::new()
-            .stiffening(true)
-            .body("arm", "beam3", 2, Reference::Clamped))
-        .contains("Builder::stiffening applies to the last body added"));
         assert!(!dir.join("out").exists());
         std::fs::remove_dir_all(&dir).unwrap();
     }

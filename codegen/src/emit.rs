@@ -1,15 +1,21 @@
-//! Rust source from the generated programs: a body type implementing
-//! `FlexBody` and `CompiledBody`, flat and unrolled, formatted by prettyplease.
+//! Rust source from the generated programs: a kernel type implementing the
+//! runtime's `ElementKernels` (and, for a body with a fixed mesh, a parameter
+//! struct implementing `CompiledBody`), flat and unrolled within an element,
+//! formatted by prettyplease, with a header naming the input, the operation
+//! count of every function and what the model leaves out.
 
-use crate::generate::Generated;
+use crate::body::BodySpec;
+use crate::eom::OutArr;
+use crate::kernel::KernelSet;
 use crate::poly::Param;
-use crate::program::{Expr, Input, Program, Target};
+use crate::program::{Expr, Input, Program};
+use crate::poly::Sym;
 use std::fmt::Write;
 
-/// How to emit a body.
+/// How to emit.
 #[derive(Clone, Debug)]
 pub struct EmitOptions {
-    /// Name of the body type (e.g. `Arm`).
+    /// Name of the body type (e.g. `Arm`); the kernels are `ArmKernels`.
     pub type_name: String,
     /// Also define the parameter struct (build.rs path); the attribute
     /// implements the traits for the user's own struct instead.
@@ -28,27 +34,51 @@ impl Default for EmitOptions {
     }
 }
 
-const AXES: [&str; 3] = ["x", "y", "z"];
+/// A user string made safe for a `//` comment or a doc string: control
+/// characters, quotes and backslashes escaped, so it can never end the
+/// comment or the string.
+pub fn comment_text(s: &str) -> String {
+    s.escape_debug().to_string()
+}
 
-/// A one-line description of the generator's input, for headers and docs.
-pub fn describe(g: &Generated) -> String {
-    let s = &g.spec;
+/// A one-line description of a kernel set's input.
+pub fn describe(set: &KernelSet) -> String {
+    let m = set.model();
     format!(
-        "shape `{}` ({}, fnv1a {:016x}), {} element{}, {}, {} formalism, stiffening {}",
-        s.shape.name,
-        s.shape.origin,
-        s.shape.source_hash,
-        s.elements,
-        if s.elements == 1 { "" } else { "s" },
-        s.reference,
-        s.formalism,
-        if g.options.stiffening { "on" } else { "off" }
+        "shape `{}` ({}, fnv1a {:016x}), {} formalism, stiffening {}, {} scene, {}",
+        comment_text(&m.shape.name),
+        comment_text(&m.shape.origin),
+        m.shape.source_hash,
+        m.formalism,
+        m.stiffening,
+        if m.scene_dim == 2 { "planar" } else { "spatial" },
+        if m.free_frame {
+            "free frame"
+        } else {
+            "prescribed frame motion"
+        }
     )
+}
+
+/// What the model leaves out, and why (one line each).
+pub fn omissions(set: &KernelSet) -> Vec<String> {
+    let m = set.model();
+    let mut v = Vec::new();
+    if m.scene_dim == 2 {
+        v.push("ā_z, α_x, α_y, ω_x, ω_y and their terms: planar scene (motion in the x–y plane)".to_string());
+    }
+    if !m.free_frame {
+        v.push("reference rows f_r, f_θ and the frame derivatives (residual, tangent): frame motion prescribed".to_string());
+    }
+    if !m.stiffening.is_on() {
+        v.push("geometric stiffening energy: stiffening off".to_string());
+    }
+    v
 }
 
 fn lit(x: f64) -> String {
     let s = format!("{x:?}");
-    if s.contains('.') || s.contains('e') || s.contains("inf") || s.contains("NaN") {
+    if s.contains('.') || s.contains('e') {
         s
     } else {
         format!("{s}.0")
@@ -104,172 +134,336 @@ fn expr(e: &Expr, names: &[String], out: &mut String) {
     }
 }
 
-/// `let` bindings of a program's inputs (from `recv` and `q_f`) and temporaries.
-fn prelude(p: &Program, recv: &str, out: &mut String) {
+/// The Rust expression an input slot reads.
+fn input_source(i: Input) -> String {
+    match i {
+        Input::Param(Param::ElemLength) => "l".into(),
+        Input::Param(p) => format!("params.{}", p.field()),
+        Input::Coef(c) => format!("c[{c}]"),
+        Input::Sym(s) => match s {
+            Sym::X0 => "x0".into(),
+            Sym::Frame(k) => format!("frame[{k}]"),
+            Sym::Bp => "bp".into(),
+            Sym::Gp => "gp".into(),
+            Sym::Q(i) => format!("q[{i}]"),
+            Sym::Qd(i) => format!("qd[{i}]"),
+            Sym::Qdd(i) => format!("qdd[{i}]"),
+            Sym::Xi => "xi".into(),
+            other => unreachable!("{other} is not a kernel input"),
+        },
+    }
+}
+
+/// The local array an output array is written to.
+fn out_name(a: OutArr) -> &'static str {
+    match a {
+        OutArr::Fr => "f_r",
+        OutArr::Fth => "f_th",
+        OutArr::Fe => "f_e",
+        OutArr::Kee => "k_ee",
+        OutArr::DeFrame => "d_e_frame",
+        OutArr::KrefE => "k_ref_e",
+        OutArr::DrefFrame => "d_ref_frame",
+        OutArr::St => "s_t",
+        OutArr::Mee => "m_ee",
+        OutArr::MeFrame => "m_e_frame",
+        OutArr::MrefE => "m_ref_e",
+        OutArr::MrefFrame => "m_ref_frame",
+        OutArr::Energy => "energy",
+        OutArr::Inv => "out",
+        OutArr::S => "s",
+        OutArr::Psi => "psi",
+        OutArr::Coef => "c",
+    }
+}
+
+/// `let` bindings of the inputs and temporaries, then the output assignments.
+fn program_body(p: &Program, out: &mut String) {
     for (slot, input) in &p.inputs {
-        let name = &p.names[*slot as usize];
-        match input {
-            Input::Param(f) => writeln!(out, "let {name} = {recv}.{};", f.field()).unwrap(),
-            Input::Q(i) => writeln!(out, "let {name} = q_f[{i}];").unwrap(),
-        }
+        writeln!(
+            out,
+            "let {} = {};",
+            p.names[*slot as usize],
+            input_source(*input)
+        )
+        .unwrap();
     }
     for (slot, e) in &p.stmts {
         write!(out, "let {} = ", p.names[*slot as usize]).unwrap();
         expr(e, &p.names, out);
         out.push_str(";\n");
     }
-}
-
-fn assign(
-    p: &Program,
-    out: &mut String,
-    mut place: impl FnMut(Target) -> (String, Option<String>),
-) {
-    for (t, e) in &p.outputs {
-        let (lhs, mirror) = place(*t);
-        write!(out, "{lhs} = ").unwrap();
+    for ((arr, idx), e) in &p.outputs {
+        if *arr == OutArr::Energy {
+            out.push_str("energy = ");
+        } else {
+            write!(out, "{}[{idx}] = ", out_name(*arr)).unwrap();
+        }
         expr(e, &p.names, out);
         out.push_str(";\n");
-        if let Some(m) = mirror {
-            writeln!(out, "{m} = {lhs};").unwrap();
+    }
+}
+
+/// Which kernel input arrays a program reads.
+fn reads(p: &Program, f: impl Fn(Sym) -> bool) -> bool {
+    p.inputs.iter().any(|(_, i)| matches!(i, Input::Sym(s) if f(*s)))
+}
+
+fn reads_coef(p: &Program) -> bool {
+    p.inputs.iter().any(|(_, i)| matches!(i, Input::Coef(_)))
+}
+
+fn writes(p: &Program, a: OutArr) -> bool {
+    p.outputs.iter().any(|((arr, _), _)| *arr == a)
+}
+
+/// Fixed-size views of the slices a kernel reads and writes.
+struct Views<'a> {
+    p: &'a Program,
+    n: usize,
+    nc: usize,
+    s: String,
+}
+
+impl Views<'_> {
+    fn coef(&mut self) {
+        if reads_coef(self.p) {
+            let nc = self.nc;
+            writeln!(self.s, "let c: &[f64; {nc}] = c.try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
         }
     }
-}
-
-fn invariants_fn(g: &Generated, rt: &str) -> String {
-    let nf = g.dofs.len();
-    let p = &g.invariants;
-    let mut s = String::new();
-    writeln!(s, "fn invariants(&self) -> {rt}::Invariants {{").unwrap();
-    prelude(p, "self", &mut s);
-    writeln!(
-        s,
-        "let mut inv = {rt}::Invariants::zeros({}, {nf});",
-        g.exact.dim
-    )
-    .unwrap();
-    assign(p, &mut s, |t| match t {
-        Target::Mass => ("inv.mass".into(), None),
-        Target::St0(k) => (format!("inv.s_t0[{k}]"), None),
-        Target::SBar(k, a) => (format!("inv.s_bar[({k}, {a})]"), None),
-        Target::Skl(k, l, a, b) => (format!("inv.s_kl[{k}][{l}][({a}, {b})]"), None),
-        Target::Ikl(k, l, a) => (format!("inv.i_kl[{k}][{l}][{a}]"), None),
-        Target::Theta(k, l) => (format!("inv.theta[({k}, {l})]"), None),
-        Target::Mff(a, b) => (format!("inv.m_ff[({a}, {b})]"), None),
-        Target::Kff(a, b) => (format!("inv.k_ff[({a}, {b})]"), None),
-        other => unreachable!("{other:?} in invariants"),
-    });
-    // Each symmetric pair was computed once (upper triangle, k ≤ l): mirror.
-    s.push_str(
-        "inv.theta.fill_lower_triangle_with_upper_triangle();\n\
-         inv.m_ff.fill_lower_triangle_with_upper_triangle();\n\
-         inv.k_ff.fill_lower_triangle_with_upper_triangle();\n\
-         for k in 0..3 {\n\
-             inv.s_kl[k][k].fill_lower_triangle_with_upper_triangle();\n\
-             for l in k + 1..3 {\n\
-                 inv.s_kl[l][k] = inv.s_kl[k][l].transpose();\n\
-             }\n\
-         }\n\
-         inv\n}\n",
-    );
-    s
-}
-
-fn inertia_fn(g: &Generated, rt: &str) -> String {
-    let nf = g.dofs.len();
-    let mut s = String::new();
-    writeln!(
-        s,
-        "fn inertia_terms(&self, q_f: &[f64], out: &mut {rt}::InertiaTerms) {{"
-    )
-    .unwrap();
-    writeln!(s, "assert_eq!(q_f.len(), {nf}, \"q_f must have {nf} entries (the body's elastic coordinates)\");").unwrap();
-    writeln!(
-        s,
-        "assert_eq!(out.i_theta_f.ncols(), {nf}, \"out.i_theta_f must be 3 x {nf}\");"
-    )
-    .unwrap();
-    prelude(&g.inertia, "self", &mut s);
-    writeln!(
-        s,
-        "out.s_t.fill(0.0);\nout.i_theta_theta.fill(0.0);\nout.i_theta_f.fill(0.0);"
-    )
-    .unwrap();
-    assign(&g.inertia, &mut s, |t| match t {
-        Target::St(k) => (format!("out.s_t[{k}]"), None),
-        Target::ItTheta(k, l) => (
-            format!("out.i_theta_theta[({k}, {l})]"),
-            (k != l).then(|| format!("out.i_theta_theta[({l}, {k})]")),
-        ),
-        Target::ItF(k, a) => (format!("out.i_theta_f[({k}, {a})]"), None),
-        other => unreachable!("{other:?} in inertia terms"),
-    });
-    s.push_str("}\n");
-    s
-}
-
-fn stiffening_fn(g: &Generated, rt: &str) -> String {
-    let (Some(fp), Some(tp)) = (&g.stiffening_force, &g.stiffening_tangent) else {
-        return String::new();
-    };
-    let nf = g.dofs.len();
-    let mut s = String::new();
-    writeln!(s, "fn has_stiffening(&self) -> bool {{ true }}").unwrap();
-    writeln!(s, "fn stiffening(&self, q_f: &[f64], force: &mut [f64], tangent: ::core::option::Option<&mut {rt}::nalgebra::DMatrix<f64>>) {{").unwrap();
-    writeln!(s, "assert_eq!(q_f.len(), {nf}, \"q_f must have {nf} entries (the body's elastic coordinates)\");").unwrap();
-    writeln!(
-        s,
-        "assert_eq!(force.len(), {nf}, \"force must have {nf} entries\");"
-    )
-    .unwrap();
-    s.push_str("{\n");
-    prelude(fp, "self", &mut s);
-    for (t, e) in &fp.outputs {
-        let Target::Force(a) = t else { unreachable!() };
-        write!(s, "force[{a}] += ").unwrap();
-        expr(e, &fp.names, &mut s);
-        s.push_str(";\n");
-    }
-    s.push_str("}\n");
-    writeln!(s, "if let ::core::option::Option::Some(k_t) = tangent {{").unwrap();
-    writeln!(
-        s,
-        "assert_eq!(k_t.shape(), ({nf}, {nf}), \"tangent must be {nf} x {nf}\");"
-    )
-    .unwrap();
-    prelude(tp, "self", &mut s);
-    for (t, e) in &tp.outputs {
-        let Target::Tangent(a, b) = t else {
-            unreachable!()
-        };
-        if a == b {
-            write!(s, "k_t[({a}, {b})] += ").unwrap();
-            expr(e, &tp.names, &mut s);
-            s.push_str(";\n");
-        } else {
-            write!(s, "let v = ").unwrap();
-            expr(e, &tp.names, &mut s);
-            writeln!(s, ";\nk_t[({a}, {b})] += v;\nk_t[({b}, {a})] += v;").unwrap();
+    fn input(&mut self, name: &str, src: &str, f: impl Fn(Sym) -> bool) {
+        if reads(self.p, f) {
+            let n = self.n;
+            writeln!(self.s, "let {name}: &[f64; {n}] = {src}.try_into().expect(\"`{name}` has {n} entries\");").unwrap();
         }
     }
+    fn scalar(&mut self, name: &str, src: &str, f: impl Fn(Sym) -> bool) {
+        if reads(self.p, f) {
+            writeln!(self.s, "let {name} = {src};").unwrap();
+        }
+    }
+    fn output(&mut self, a: OutArr, src: &str, len: usize) {
+        if writes(self.p, a) {
+            let name = out_name(a);
+            writeln!(self.s, "let {name}: &mut [f64; {len}] = (&mut *{src}).try_into().expect(\"`{name}` has {len} entries\");").unwrap();
+        }
+    }
+    fn kernel_inputs(&mut self, via: &str) {
+        self.scalar("x0", &format!("{via}x0"), |s| s == Sym::X0);
+        self.input("q", &format!("{via}q"), |s| matches!(s, Sym::Q(_)));
+        self.input("qd", &format!("{via}qd"), |s| matches!(s, Sym::Qd(_)));
+        self.input("qdd", &format!("{via}qdd"), |s| matches!(s, Sym::Qdd(_)));
+        self.scalar("frame", &format!("{via}frame"), |s| matches!(s, Sym::Frame(_)));
+    }
+}
+
+/// The operation-count line of a function (turned into a plain `//`
+/// comment after formatting).
+fn ops_doc(p: &Program) -> String {
+    format!("#[doc = \" operations: {}\"]\n", p.ops())
+}
+
+fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
+    let n = set.n();
+    let nc = set.coefficients.len();
+    let m = set.model();
+    let mut s = String::new();
+    let coords = m
+        .shape
+        .coordinates
+        .iter()
+        .map(|c| {
+            format!(
+                "{rt}::spec::ElementCoordinate {{ node: {}, kind: {rt}::spec::Kind::{} }}",
+                c.node,
+                match c.kind.name() {
+                    "ux" => "Ux",
+                    "uy" => "Uy",
+                    "uz" => "Uz",
+                    "rx" => "Rx",
+                    "ry" => "Ry",
+                    _ => "Rz",
+                }
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let params = set
+        .params_used()
+        .iter()
+        .map(|p| format!("{rt}::spec::Param::{p:?}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    writeln!(
+        s,
+        "#[doc = \" Element kernels generated by ffr-codegen from {}.\"]",
+        describe(set).replace('\\', "\\\\").replace('"', "\\\"")
+    )
+    .unwrap();
+    writeln!(
+        s,
+        "#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]\npub struct {kt};"
+    )
+    .unwrap();
+    writeln!(s, "#[allow(clippy::all, clippy::pedantic, unused_variables)]\nimpl {rt}::ElementKernels for {kt} {{").unwrap();
+    writeln!(
+        s,
+        "fn info(&self) -> &{rt}::KernelInfo {{ const INFO: {rt}::KernelInfo = {rt}::KernelInfo {{ shape: {:?}, dim: {}, scene_dim: {}, n_local: {n}, coordinates: &[{coords}], formalism: {rt}::spec::Formalism::{:?}, stiffening: {rt}::spec::Stiffening::{:?}, free_frame: {}, n_coefficients: {nc}, params_used: &[{params}] }}; &INFO }}",
+        comment_text(&m.shape.name),
+        m.shape.dimension,
+        m.scene_dim,
+        m.formalism,
+        m.stiffening,
+        m.free_frame
+    )
+    .unwrap();
+
+    // Coefficients.
+    let cp = &set.coefficient_program;
+    s.push_str(&ops_doc(cp));
+    writeln!(s, "fn coefficients(&self, params: &{rt}::spec::Params, l: f64, c: &mut [f64]) {{").unwrap();
+    writeln!(s, "let c: &mut [f64; {nc}] = c.try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
+    program_body(cp, &mut s);
+    s.push_str("}\n");
+
+    // mass
+    let p = &set.mass;
+    let mut v = Views { p, n, nc, s: String::new() };
+    v.coef();
+    v.scalar("x0", "x0", |s| s == Sym::X0);
+    v.input("q", "q", |s| matches!(s, Sym::Q(_)));
+    v.output(OutArr::St, "out.s_t", 3);
+    v.output(OutArr::Mee, "out.m_ee", n * n);
+    v.output(OutArr::MeFrame, "out.m_e_frame", n * 6);
+    v.output(OutArr::MrefE, "out.m_ref_e", 6 * n);
+    v.output(OutArr::MrefFrame, "out.m_ref_frame", 36);
+    s.push_str(&ops_doc(p));
+    writeln!(s, "fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut {rt}::MassOut) {{").unwrap();
+    s.push_str(&v.s);
+    program_body(p, &mut s);
+    s.push_str("}\n");
+
+    // residual / tangent (free frame)
+    if let (Some(rp), Some(tp)) = (&set.residual, &set.tangent) {
+        let mut v = Views { p: rp, n, nc, s: String::new() };
+        v.coef();
+        v.kernel_inputs("x.");
+        v.output(OutArr::Fr, "out.f_r", 3);
+        v.output(OutArr::Fth, "out.f_th", 3);
+        v.output(OutArr::Fe, "out.f_e", n);
+        s.push_str(&ops_doc(rp));
+        writeln!(s, "fn residual(&self, c: &[f64], x: &{rt}::KernelInput, out: &mut {rt}::ResidualOut) {{").unwrap();
+        s.push_str(&v.s);
+        program_body(rp, &mut s);
+        s.push_str("}\n");
+
+        let mut v = Views { p: tp, n, nc, s: String::new() };
+        v.coef();
+        v.kernel_inputs("x.");
+        v.scalar("bp", "bp", |s| s == Sym::Bp);
+        v.scalar("gp", "gp", |s| s == Sym::Gp);
+        v.output(OutArr::Fr, "out.f_r", 3);
+        v.output(OutArr::Fth, "out.f_th", 3);
+        v.output(OutArr::Fe, "out.f_e", n);
+        v.output(OutArr::Kee, "out.k_ee", n * n);
+        v.output(OutArr::DeFrame, "out.d_e_frame", n * 9);
+        v.output(OutArr::KrefE, "out.k_ref_e", 6 * n);
+        v.output(OutArr::DrefFrame, "out.d_ref_frame", 54);
+        s.push_str(&ops_doc(tp));
+        writeln!(s, "fn tangent(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, out: &mut {rt}::TangentOut) {{").unwrap();
+        s.push_str(&v.s);
+        program_body(tp, &mut s);
+        s.push_str("}\n");
+    }
+
+    // elastic-only kernels
+    let p = &set.residual_elastic;
+    let mut v = Views { p, n, nc, s: String::new() };
+    v.coef();
+    v.kernel_inputs("x.");
+    v.output(OutArr::Fe, "f_e", n);
+    s.push_str(&ops_doc(p));
+    writeln!(s, "fn residual_elastic(&self, c: &[f64], x: &{rt}::KernelInput, f_e: &mut [f64]) {{").unwrap();
+    s.push_str(&v.s);
+    program_body(p, &mut s);
+    s.push_str("}\n");
+
+    let p = &set.tangent_elastic;
+    let mut v = Views { p, n, nc, s: String::new() };
+    v.coef();
+    v.kernel_inputs("x.");
+    v.scalar("bp", "bp", |s| s == Sym::Bp);
+    v.scalar("gp", "gp", |s| s == Sym::Gp);
+    v.output(OutArr::Fe, "f_e", n);
+    v.output(OutArr::Kee, "k_ee", n * n);
+    s.push_str(&ops_doc(p));
+    writeln!(s, "fn tangent_elastic(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, f_e: &mut [f64], k_ee: &mut [f64]) {{").unwrap();
+    s.push_str(&v.s);
+    program_body(p, &mut s);
+    s.push_str("}\n");
+
+    // energy
+    let p = &set.energy;
+    let mut v = Views { p, n, nc, s: String::new() };
+    v.coef();
+    v.input("q", "q", |s| matches!(s, Sym::Q(_)));
+    s.push_str(&ops_doc(p));
+    writeln!(s, "fn energy(&self, c: &[f64], q: &[f64]) -> f64 {{").unwrap();
+    s.push_str(&v.s);
+    s.push_str("let mut energy = 0.0;\n");
+    program_body(p, &mut s);
+    s.push_str("energy\n}\n");
+
+    // element invariants
+    let p = &set.element_invariants;
+    let (_, inv_len) = ffr_spec::invariant_layout(n);
+    let mut v = Views { p, n, nc, s: String::new() };
+    v.coef();
+    v.scalar("x0", "x0", |s| s == Sym::X0);
+    v.output(OutArr::Inv, "out", inv_len);
+    s.push_str(&ops_doc(p));
+    writeln!(s, "fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64]) {{").unwrap();
+    s.push_str(&v.s);
+    program_body(p, &mut s);
+    s.push_str("}\n");
+
+    // point shape
+    let p = &set.point_shape;
+    let mut v = Views { p, n, nc, s: String::new() };
+    v.coef();
+    v.scalar("xi", "xi", |s| s == Sym::Xi);
+    v.output(OutArr::S, "s", 3 * n);
+    v.output(OutArr::Psi, "psi", 3 * n);
+    s.push_str(&ops_doc(p));
+    writeln!(s, "fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64]) {{").unwrap();
+    s.push_str(&v.s);
+    program_body(p, &mut s);
     s.push_str("}\n}\n");
     s
 }
 
-/// The trait implementations for `opts.type_name` (and the struct itself if
+/// The kernel type `kt` (unformatted items).
+pub fn kernel_items(set: &KernelSet, kt: &str, runtime_path: &str) -> String {
+    kernel_impl(set, kt, runtime_path)
+}
+
+/// The kernels plus, for a body with a fixed mesh, the `CompiledBody`
+/// implementation for `opts.type_name` (and the parameter struct itself if
 /// `opts.define_struct`), unformatted.
-pub fn body_items(g: &Generated, opts: &EmitOptions) -> String {
+pub fn body_items(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> String {
     let rt = &opts.runtime_path;
     let ty = &opts.type_name;
-    let nf = g.dofs.len();
-    let dim = g.exact.dim;
-    let mut s = String::new();
-    let what = describe(g);
+    let kt = format!("{ty}Kernels");
+    let mut s = kernel_impl(set, &kt, rt);
+    let used = set.params_used();
     if opts.define_struct {
-        let used = g.used_params();
         writeln!(
             s,
-            "/// Parameters of an FFR body generated by ffr-codegen from {what}. SI units."
+            "#[doc = \" Parameters of an FFR body generated by ffr-codegen from {}, {} elements, {} reference. SI units.\"]",
+            describe(set).replace('\\', "\\\\").replace('"', "\\\""),
+            spec.elements,
+            spec.reference
         )
         .unwrap();
         writeln!(
@@ -283,74 +477,126 @@ pub fn body_items(g: &Generated, opts: &EmitOptions) -> String {
             } else {
                 " (not used by this shape)"
             };
-            writeln!(s, "/// {}{note}.\npub {}: f64,", param_doc(f), f.field()).unwrap();
+            writeln!(s, "#[doc = \" {}{note}.\"]\npub {}: f64,", f.doc(), f.field()).unwrap();
         }
         writeln!(s, "}}").unwrap();
-        writeln!(s, "impl ::core::convert::From<{rt}::Params> for {ty} {{\nfn from(p: {rt}::Params) -> Self {{\nSelf {{ {} }}\n}}\n}}",
+        writeln!(s, "impl ::core::convert::From<{rt}::spec::Params> for {ty} {{\nfn from(p: {rt}::spec::Params) -> Self {{\nSelf {{ {} }}\n}}\n}}",
             Param::FIELDS.iter().map(|f| format!("{0}: p.{0}", f.field())).collect::<Vec<_>>().join(", ")).unwrap();
     }
-    let dofs = g
-        .dofs
+    let dofs = spec
+        .dofs()
         .iter()
         .map(|d| format!("\"{d}\""))
         .collect::<Vec<_>>()
         .join(", ");
-    writeln!(s, "impl {rt}::CompiledBody for {ty} {{\nconst NF: usize = {nf};\nconst DIM: usize = {dim};\nconst DOFS: &'static [&'static str] = &[{dofs}];\n}}").unwrap();
-    writeln!(s, "#[allow(clippy::all, clippy::pedantic)]").unwrap();
-    writeln!(s, "impl {rt}::FlexBody for {ty} {{").unwrap();
+    let fields = Param::FIELDS
+        .iter()
+        .map(|f| {
+            if used.contains(f) {
+                format!("{0}: self.{0}", f.field())
+            } else {
+                format!("{}: 0.0", f.field())
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
     writeln!(
         s,
-        "fn nf(&self) -> usize {{ {nf} }}\nfn dim(&self) -> usize {{ {dim} }}"
+        "impl {rt}::CompiledBody for {ty} {{\ntype Kernels = {kt};\nconst ELEMENTS: usize = {};\nconst REFERENCE: {rt}::spec::Reference = {rt}::spec::Reference::{:?};\nconst NF: usize = {};\nconst DIM: usize = {};\nconst DOFS: &'static [&'static str] = &[{dofs}];\nfn params(&self) -> {rt}::spec::Params {{ {rt}::spec::Params {{ {fields} }} }}\n}}",
+        spec.elements,
+        spec.reference,
+        spec.nf(),
+        spec.shape.dimension
     )
     .unwrap();
-    writeln!(s, "fn dof_labels(&self) -> ::std::vec::Vec<::std::string::String> {{ <Self as {rt}::CompiledBody>::DOFS.iter().map(|d| ::std::string::ToString::to_string(d)).collect() }}").unwrap();
-    s.push_str(&invariants_fn(g, rt));
-    s.push_str(&inertia_fn(g, rt));
-    s.push_str(&stiffening_fn(g, rt));
-    s.push_str("}\n");
     s
 }
 
-fn param_doc(p: Param) -> &'static str {
-    match p {
-        Param::ElemLength => "Element length",
-        Param::Length => "Body length `L` (m)",
-        Param::Rho => "Density `ρ` (kg/m³)",
-        Param::Area => "Cross-section area `A` (m²)",
-        Param::Iy => "Second moment `I_y = ∫z² dA` (m⁴)",
-        Param::Iz => "Second moment `I_z = ∫y² dA` (m⁴)",
-        Param::E => "Young's modulus `E` (Pa)",
-        Param::G => "Shear modulus `G` (Pa)",
-        Param::J => "Torsion constant `J` (m⁴)",
-    }
+/// Format items with prettyplease and turn the operation-count doc lines
+/// into plain `// operations: N` comments.
+fn format(items: &str) -> String {
+    let file = syn::parse_file(items)
+        .unwrap_or_else(|e| panic!("ffr-codegen produced invalid Rust (a bug): {e}\n{items}"));
+    prettyplease::unparse(&file).replace("/// operations: ", "// operations: ")
 }
 
-/// A complete, formatted Rust file for one body, with a header naming the input.
-pub fn emit_file(g: &Generated, opts: &EmitOptions) -> String {
-    let items = body_items(g, opts);
-    let file = syn::parse_file(&items)
-        .unwrap_or_else(|e| panic!("ffr-codegen produced invalid Rust (a bug): {e}\n{items}"));
-    let body = prettyplease::unparse(&file);
-    let dofs: Vec<String> = g.dofs.iter().map(|d| d.to_string()).collect();
-    let mut header = String::new();
+fn header(set: &KernelSet, what: &str) -> String {
+    let mut h = String::new();
     writeln!(
-        header,
+        h,
         "// @generated by ffr-codegen {} — do not edit.",
         env!("CARGO_PKG_VERSION")
     )
     .unwrap();
-    writeln!(header, "// Input: {}.", describe(g)).unwrap();
+    writeln!(h, "// {what}").unwrap();
+    writeln!(h, "// Input: {}.", describe(set)).unwrap();
+    let coords: Vec<String> = set
+        .model()
+        .shape
+        .coordinates
+        .iter()
+        .map(|c| format!("{}_{}", c.kind, c.node))
+        .collect();
     writeln!(
-        header,
-        "// Body `{}`: {} elastic coordinates, in this order:",
-        opts.type_name,
-        dofs.len()
+        h,
+        "// Element coordinates ({}): {}.",
+        coords.len(),
+        coords.join(" ")
     )
     .unwrap();
-    for chunk in dofs.chunks(12) {
-        writeln!(header, "//   {}", chunk.join(" ")).unwrap();
+    writeln!(
+        h,
+        "// Coefficients: {} (computed once per body).",
+        set.coefficients.len()
+    )
+    .unwrap();
+    writeln!(h, "// Operations per call:").unwrap();
+    writeln!(
+        h,
+        "//   {:<20} {}",
+        "coefficients",
+        set.coefficient_program.ops()
+    )
+    .unwrap();
+    for (name, p) in set.programs() {
+        writeln!(h, "//   {name:<20} {}", p.ops()).unwrap();
     }
-    writeln!(header, "// Axes: {}.", &AXES[..g.exact.dim].join(", ")).unwrap();
-    header.push('\n');
-    header + &body
+    let omitted = omissions(set);
+    if !omitted.is_empty() {
+        writeln!(h, "// Left out:").unwrap();
+        for o in omitted {
+            writeln!(h, "//   - {o}").unwrap();
+        }
+    }
+    h.push('\n');
+    h
+}
+
+/// A complete, formatted file with the kernel type `kernels_type`.
+pub fn emit_kernels_file(set: &KernelSet, kernels_type: &str, runtime_path: &str) -> String {
+    header(set, &format!("Element kernels `{kernels_type}`."))
+        + &format(&kernel_items(set, kernels_type, runtime_path))
+}
+
+/// A complete, formatted file for one body with a fixed mesh.
+pub fn emit_body_file(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> String {
+    let dofs: Vec<String> = spec.dofs().iter().map(|d| d.to_string()).collect();
+    let mut h = header(
+        set,
+        &format!(
+            "Body `{}`: {} element{}, {} reference, {} elastic coordinates.",
+            opts.type_name,
+            spec.elements,
+            if spec.elements == 1 { "" } else { "s" },
+            spec.reference,
+            dofs.len()
+        ),
+    );
+    h.pop();
+    writeln!(h, "// Elastic coordinates, in this order:").unwrap();
+    for chunk in dofs.chunks(12) {
+        writeln!(h, "//   {}", chunk.join(" ")).unwrap();
+    }
+    h.push('\n');
+    h + &format(&body_items(set, spec, opts))
 }

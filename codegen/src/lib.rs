@@ -1,33 +1,37 @@
 //! Exact symbolic generator of floating-frame-of-reference (FFR) code.
 //!
 //! From a shape description (the element shape-function matrix `S`, see
-//! [`shape`]) and a body made of `N` such elements ([`BodySpec`]) it computes
-//! the inertia shape integrals `m`, `S_t0`, `S̄`, `S̄_kl`, `Ī_kl`, `Θ_kl`,
-//! `m_ff` and the stiffness `K_ff` exactly ([`body`]), turns them and the
-//! `q_f`-dependent terms `S_t`, `Ī_θθ`, `Ī_θf` (and optionally geometric
-//! stiffening) into straight-line programs ([`generate`]), and emits
-//! unrolled, formatted Rust implementing `ffr_runtime::FlexBody` ([`emit`]).
-//! No floating point is used before emission; literals are the exact
-//! rationals rounded to nearest.
-//!
-//! Names and conventions follow the project's theory sheet.
+//! [`shape`]) it computes the element's inertia shape integrals and
+//! stiffness exactly ([`body`]; `m`, `S_t0`, `S̄`, `S̄_kl`, `Ī_kl`, `Θ_kl`,
+//! `m_ff`, `K_ff` as rational polynomials in the parameters), the
+//! stiffening energies ([`energy`]) and the element's equations of motion in
+//! body axes with the derivatives a Newton iteration needs ([`eom`], with the
+//! chain rule through named intermediates in [`dag`]); turns them into
+//! straight-line programs with the parameters folded into per-body
+//! coefficients ([`program`], [`kernel`]); and emits unrolled, formatted
+//! Rust implementing the runtime's `ElementKernels` ([`emit`]), from a build
+//! script ([`Builder`]) or the `#[flex_body]` attribute. No floating point
+//! is used before emission; literals are the exact rationals rounded to
+//! nearest. The theory is in the repository's `docs/theory.md`.
 
 pub mod body;
 pub mod builder;
+pub mod dag;
 pub mod emit;
+pub mod energy;
+pub mod eom;
 pub mod error;
 pub mod expr;
-pub mod generate;
-pub mod numeric;
+pub mod kernel;
 pub mod poly;
 pub mod program;
 pub mod shape;
 
-pub use body::{BodySpec, Dof, Formalism, Reference};
+pub use body::{BodySpec, Dof, ExactInvariants, Formalism, Reference};
 pub use builder::Builder;
-pub use emit::{emit_file, EmitOptions};
+pub use emit::{emit_body_file, emit_kernels_file, EmitOptions};
+pub use eom::KernelModel;
 pub use error::{Error, Location};
-pub use generate::{generate, Generated, Options};
-pub use numeric::{NumericInertia, NumericInvariants, ParamValues};
-pub use program::Target;
+pub use ffr_spec::{Params, Stiffening};
+pub use kernel::{generate_kernels, KernelSet};
 pub use shape::{Kind, Shape};

@@ -45,66 +45,32 @@ pub enum Sym {
     Zeta,
     /// A body parameter (element or body length, density, section, material).
     Param(Param),
-    /// Elastic coordinate `q_f[i]` of the body.
+    /// Kernel input: the element's offset `x₀` along body x.
+    X0,
+    /// Kernel input: the frame motion in body axes, `0..3` `ā = Aᵀ(R̈ − g)`,
+    /// `3..6` `α = ω̄̇`, `6..9` `ω = ω̄`.
+    Frame(u8),
+    /// Kernel input: generalized-α `β'` (`∂q̈/∂q`).
+    Bp,
+    /// Kernel input: generalized-α `γ'` (`∂q̇/∂q`).
+    Gp,
+    /// Elastic (or local) coordinate `q[i]`.
     Q(u32),
+    /// Its velocity `q̇[i]`.
+    Qd(u32),
+    /// Its acceleration `q̈[i]`.
+    Qdd(u32),
+    /// An intermediate quantity bound earlier in a program (element scalars,
+    /// derivatives of an energy with respect to them).
+    Z(u32),
 }
 
-/// The runtime parameters of a body, in the order of the generated `Params` fields.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Param {
-    /// Element length `l` in a shape; replaced by `length / N` in a body.
-    ElemLength,
-    /// Body length `L`.
-    Length,
-    /// Density `ρ`.
-    Rho,
-    /// Area `A`.
-    Area,
-    /// `I_y = ∫z² dA`.
-    Iy,
-    /// `I_z = ∫y² dA`.
-    Iz,
-    /// Young's modulus `E`.
-    E,
-    /// Shear modulus `G`.
-    G,
-    /// Torsion constant `J`.
-    J,
-}
+/// Names of the frame inputs (`Sym::Frame(k)`).
+pub const FRAME_NAMES: [&str; 9] = [
+    "a_x", "a_y", "a_z", "alpha_x", "alpha_y", "alpha_z", "w_x", "w_y", "w_z",
+];
 
-impl Param {
-    /// Every runtime field of a body, in declaration order.
-    pub const FIELDS: [Param; 8] = [
-        Param::Length,
-        Param::Rho,
-        Param::Area,
-        Param::Iy,
-        Param::Iz,
-        Param::E,
-        Param::G,
-        Param::J,
-    ];
-
-    /// The field name in generated code and on the command line.
-    pub fn field(self) -> &'static str {
-        match self {
-            Param::ElemLength => "l",
-            Param::Length => "length",
-            Param::Rho => "rho",
-            Param::Area => "area",
-            Param::Iy => "iy",
-            Param::Iz => "iz",
-            Param::E => "e",
-            Param::G => "g",
-            Param::J => "j",
-        }
-    }
-
-    /// Index into [`Param::FIELDS`] (`None` for the element length).
-    pub fn field_index(self) -> Option<usize> {
-        Param::FIELDS.iter().position(|&p| p == self)
-    }
-}
+pub use ffr_spec::Param;
 
 impl fmt::Display for Sym {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -113,7 +79,14 @@ impl fmt::Display for Sym {
             Sym::Eta => write!(f, "eta"),
             Sym::Zeta => write!(f, "zeta"),
             Sym::Param(p) => write!(f, "{}", p.field()),
+            Sym::X0 => write!(f, "x0"),
+            Sym::Frame(k) => write!(f, "{}", FRAME_NAMES[*k as usize]),
+            Sym::Bp => write!(f, "bp"),
+            Sym::Gp => write!(f, "gp"),
             Sym::Q(i) => write!(f, "q{i}"),
+            Sym::Qd(i) => write!(f, "qd{i}"),
+            Sym::Qdd(i) => write!(f, "qdd{i}"),
+            Sym::Z(i) => write!(f, "z{i}"),
         }
     }
 }
@@ -212,7 +185,7 @@ impl fmt::Display for Monomial {
 }
 
 /// Sparse polynomial `Σ c_m · m` with exact rational coefficients; no zero terms.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Poly {
     terms: BTreeMap<Monomial, Rational>,
 }

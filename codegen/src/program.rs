@@ -1,14 +1,22 @@
 //! Straight-line programs: the form in which every generated formula exists
-//! before it becomes Rust.
+//! before it becomes Rust (or runs on a [`Tape`]).
 //!
-//! A [`Program`] is a list of `let` bindings (hoisted power products and
-//! intermediate sums) and outputs, each an expression tree over inputs
-//! (parameters, `q_f` entries), temporaries and `f64` literals rounded from
-//! the exact rationals. [`Program::eval`] runs it in the same operation order
-//! the emitted Rust has, so the command line reports exactly the numbers the
-//! compiled code computes.
+//! A kernel program reads its inputs (coefficients `c[i]`, element
+//! coordinates, frame motion, …), computes `let` temporaries (hoisted power
+//! products, intermediates of the [`Dag`](crate::dag::Dag)) and assigns its
+//! outputs. Every term `r · P(params) · X(inputs)` of an exact polynomial
+//! becomes `κ · X` with the coefficient `κ = |r| · P` computed once per body
+//! by the *coefficient program* (the [`Coefficients`] registry), so a kernel
+//! call does no parameter arithmetic. Terms are grouped by their frame
+//! monomial (`ω_z²`, `β'`, …) and summed left to right.
+//!
+//! [`Tape`] runs a program in exactly the emitted code's operation order, so
+//! run-time (tape) bodies compute bit for bit what compiled bodies compute.
 
+use crate::dag::Dag;
+use crate::eom::OutArr;
 use crate::poly::{to_f64, Monomial, Param, Poly, Rational, Sym};
+
 use num_traits::{One, Signed};
 use std::collections::{BTreeMap, HashMap};
 
@@ -35,39 +43,28 @@ impl Expr {
     fn mul(a: Expr, b: Expr) -> Expr {
         Expr::Mul(Box::new(a), Box::new(b))
     }
+
+    /// Arithmetic operations in the expression.
+    pub fn ops(&self) -> usize {
+        match self {
+            Expr::Var(_) | Expr::Lit(_) => 0,
+            Expr::Add(a, b) | Expr::Sub(a, b) | Expr::Mul(a, b) | Expr::Div(a, b) => {
+                1 + a.ops() + b.ops()
+            }
+            Expr::Neg(a) => 1 + a.ops(),
+        }
+    }
 }
 
-/// Where an output goes. Indices: `k, l ∈ {0, 1, 2}` for x, y, z; `a, b`
-/// elastic coordinates.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Target {
-    /// `m`.
-    Mass,
-    /// `S_t0[k]`.
-    St0(usize),
-    /// `S̄[k][a]`.
-    SBar(usize, usize),
-    /// `S̄_kl[a][b]` (emitted for `k < l` with its transpose `S̄_lk`, and for
-    /// `k = l`, `a ≤ b` with its mirror).
-    Skl(usize, usize, usize, usize),
-    /// `Ī_kl[a]`.
-    Ikl(usize, usize, usize),
-    /// `Θ_kl`, `k ≤ l` (mirrored).
-    Theta(usize, usize),
-    /// `m_ff[a][b]`, `a ≤ b` (mirrored).
-    Mff(usize, usize),
-    /// `K_ff[a][b]`, `a ≤ b` (mirrored).
-    Kff(usize, usize),
-    /// `S_t(q)[k]`.
-    St(usize),
-    /// `Ī_θθ(q)[k][l]`, `k ≤ l` (mirrored).
-    ItTheta(usize, usize),
-    /// `Ī_θf(q)[k][a]`.
-    ItF(usize, usize),
-    /// `∂U_nl/∂q_a`.
-    Force(usize),
-    /// `∂²U_nl/∂q_a∂q_b`, `a ≤ b` (mirrored).
-    Tangent(usize, usize),
+/// What an input slot reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Input {
+    /// A body parameter (coefficient program only; `ElemLength` is `l`).
+    Param(Param),
+    /// Coefficient `c[i]`.
+    Coef(u32),
+    /// A kernel input: `x0`, `frame[k]`, `bp`, `gp`, `q[i]`, `qd[i]`, `qdd[i]`, `xi`.
+    Sym(Sym),
 }
 
 /// A straight-line program.
@@ -75,33 +72,45 @@ pub enum Target {
 pub struct Program {
     /// Name of every slot: first the inputs, then the temporaries.
     pub names: Vec<String>,
-    /// Input slots: parameters and `q_f` entries, with what they read.
+    /// Input slots with what they read.
     pub inputs: Vec<(u32, Input)>,
     /// `let names[slot] = expr;` in order.
     pub stmts: Vec<(u32, Expr)>,
-    /// Outputs in order.
-    pub outputs: Vec<(Target, Expr)>,
-}
-
-/// What an input slot reads.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Input {
-    /// A parameter field.
-    Param(Param),
-    /// `q_f[i]`.
-    Q(usize),
+    /// Outputs in order: array entry and expression.
+    pub outputs: Vec<((OutArr, u32), Expr)>,
 }
 
 impl Program {
-    /// Run the program: parameter values in [`Param::FIELDS`] order, and `q_f`.
-    pub fn eval(&self, params: &[f64; 8], q: &[f64]) -> Vec<(Target, f64)> {
-        let tape = self.tape();
-        let mut slots = Vec::new();
-        tape.run(params, q, &mut slots);
-        tape.outputs
+    /// Arithmetic operations (adds, multiplies, divides, negations) in one run.
+    pub fn ops(&self) -> usize {
+        self.stmts.iter().map(|(_, e)| e.ops()).sum::<usize>()
+            + self.outputs.iter().map(|(_, e)| e.ops()).sum::<usize>()
+    }
+
+    /// The parameters the program reads.
+    pub fn params(&self) -> Vec<Param> {
+        let mut v: Vec<Param> = self
+            .inputs
             .iter()
-            .map(|&(t, s)| (t, slots[s as usize]))
-            .collect()
+            .filter_map(|(_, i)| match i {
+                Input::Param(p) => Some(*p),
+                _ => None,
+            })
+            .collect();
+        v.sort();
+        v
+    }
+
+    /// The highest coefficient index read, plus one.
+    pub fn coefficients_read(&self) -> usize {
+        self.inputs
+            .iter()
+            .filter_map(|(_, i)| match i {
+                Input::Coef(c) => Some(*c as usize + 1),
+                _ => None,
+            })
+            .max()
+            .unwrap_or(0)
     }
 
     /// The program flattened into register operations, in the order the
@@ -111,17 +120,7 @@ impl Program {
             n_slots: self.names.len() as u32,
             ..Tape::default()
         };
-        t.inputs = self
-            .inputs
-            .iter()
-            .map(|&(s, i)| {
-                let src = match i {
-                    Input::Param(p) => TapeInput::Param(p.field_index().expect("runtime field")),
-                    Input::Q(k) => TapeInput::Q(k),
-                };
-                (s, src)
-            })
-            .collect();
+        t.inputs = self.inputs.iter().map(|&(s, i)| (s, i)).collect();
         let mut consts = HashMap::new();
         for (slot, e) in &self.stmts {
             let r = t.compile(e, &mut consts);
@@ -133,29 +132,53 @@ impl Program {
         }
         t
     }
-
-    /// The parameters the program reads.
-    pub fn params(&self) -> Vec<Param> {
-        let mut v: Vec<Param> = self
-            .inputs
-            .iter()
-            .filter_map(|(_, i)| match i {
-                Input::Param(p) => Some(*p),
-                Input::Q(_) => None,
-            })
-            .collect();
-        v.sort();
-        v
-    }
 }
 
-/// Where a tape input comes from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TapeInput {
-    /// Parameter by index into [`Param::FIELDS`].
-    Param(usize),
-    /// `q_f[i]`.
-    Q(usize),
+/// Input values of one program run (unused ones may be empty).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Inputs<'a> {
+    /// Parameter fields in [`Param::FIELDS`] order, then `l`.
+    pub params: &'a [f64],
+    /// Coefficients.
+    pub coef: &'a [f64],
+    /// `x₀`.
+    pub x0: f64,
+    /// `ā, α, ω` in body axes.
+    pub frame: &'a [f64],
+    /// `β'`.
+    pub bp: f64,
+    /// `γ'`.
+    pub gp: f64,
+    /// Element coordinates.
+    pub q: &'a [f64],
+    /// Their velocities.
+    pub qd: &'a [f64],
+    /// Their accelerations.
+    pub qdd: &'a [f64],
+    /// `ξ`.
+    pub xi: f64,
+}
+
+impl Inputs<'_> {
+    /// The value an input slot reads.
+    pub fn get(&self, i: Input) -> f64 {
+        match i {
+            Input::Param(Param::ElemLength) => self.params[8],
+            Input::Param(p) => self.params[p.field_index().expect("field")],
+            Input::Coef(c) => self.coef[c as usize],
+            Input::Sym(s) => match s {
+                Sym::X0 => self.x0,
+                Sym::Frame(k) => self.frame[k as usize],
+                Sym::Bp => self.bp,
+                Sym::Gp => self.gp,
+                Sym::Q(i) => self.q[i as usize],
+                Sym::Qd(i) => self.qd[i as usize],
+                Sym::Qdd(i) => self.qdd[i as usize],
+                Sym::Xi => self.xi,
+                other => panic!("{other} is not a kernel input"),
+            },
+        }
+    }
 }
 
 /// One register operation.
@@ -175,22 +198,27 @@ pub enum Op {
     Copy(u32, u32),
 }
 
-/// A [`Program`] as a flat list of register operations: what an evaluated
+/// A [`Program`] as a flat list of register operations: what a run-time
 /// (not compiled) body runs.
 #[derive(Clone, Debug, Default)]
 pub struct Tape {
     n_slots: u32,
     consts: Vec<(u32, f64)>,
-    inputs: Vec<(u32, TapeInput)>,
+    inputs: Vec<(u32, Input)>,
     ops: Vec<Op>,
     /// Each output and the register holding it after [`Tape::run`].
-    pub outputs: Vec<(Target, u32)>,
+    pub outputs: Vec<((OutArr, u32), u32)>,
 }
 
 impl Tape {
     fn fresh(&mut self) -> u32 {
         self.n_slots += 1;
         self.n_slots - 1
+    }
+
+    /// Registers a run needs.
+    pub fn n_slots(&self) -> usize {
+        self.n_slots as usize
     }
 
     fn compile(&mut self, e: &Expr, consts: &mut HashMap<u64, u32>) -> u32 {
@@ -225,19 +253,15 @@ impl Tape {
         }
     }
 
-    /// Run with parameter values in [`Param::FIELDS`] order and `q_f`;
-    /// `slots` is scratch space (resized as needed): read the outputs from it
-    /// through [`Tape::outputs`].
-    pub fn run(&self, params: &[f64; 8], q: &[f64], slots: &mut Vec<f64>) {
-        slots.resize(self.n_slots as usize, 0.0);
+    /// Run with `inputs`; `slots` is scratch space of at least
+    /// [`Tape::n_slots`] entries; read the outputs from it through
+    /// [`Tape::outputs`]. No allocation.
+    pub fn run(&self, inputs: &Inputs, slots: &mut [f64]) {
         for &(r, x) in &self.consts {
             slots[r as usize] = x;
         }
         for &(r, src) in &self.inputs {
-            slots[r as usize] = match src {
-                TapeInput::Param(i) => params[i],
-                TapeInput::Q(i) => q[i],
-            };
+            slots[r as usize] = inputs.get(src);
         }
         for op in &self.ops {
             match *op {
@@ -252,13 +276,51 @@ impl Tape {
     }
 }
 
-/// Builds a [`Program`] from exact polynomials, hoisting power products of
-/// parameters and of `q_f` entries into named, memoized temporaries.
-#[derive(Default)]
-pub struct ProgramBuilder {
-    prog: Program,
-    by_name: HashMap<String, u32>,
-    monomials: HashMap<Monomial, u32>,
+/// The coefficients that kernel programs read: each a polynomial in the
+/// parameters (and `l`), normalized so that its first term is positive,
+/// computed once per body.
+#[derive(Clone, Debug, Default)]
+pub struct Coefficients {
+    index: HashMap<Poly, u32>,
+    /// In index order.
+    pub entries: Vec<Poly>,
+}
+
+impl Coefficients {
+    fn get(&mut self, p: Poly) -> u32 {
+        if let Some(&i) = self.index.get(&p) {
+            return i;
+        }
+        let i = self.entries.len() as u32;
+        self.entries.push(p.clone());
+        self.index.insert(p, i);
+        i
+    }
+
+    /// The coefficient program: parameters (and `l`) in, `c[i]` out.
+    pub fn program(&self) -> Program {
+        let mut b = ProgramBuilder::new(None);
+        for (i, p) in self.entries.iter().enumerate() {
+            let e = b.param_poly(p);
+            b.prog.outputs.push(((OutArr::Coef, i as u32), e));
+        }
+        b.prog
+    }
+
+    /// Number of coefficients.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+}
+
+/// Whether a symbol is grouped outside the sums of a program's expressions.
+fn is_outer(s: Sym) -> bool {
+    matches!(s, Sym::Frame(_) | Sym::Bp | Sym::Gp | Sym::X0)
 }
 
 fn factor_name(s: Sym, e: i32) -> String {
@@ -271,50 +333,77 @@ fn factor_name(s: Sym, e: i32) -> String {
     }
 }
 
-impl ProgramBuilder {
-    /// An empty builder.
-    pub fn new() -> Self {
-        Self::default()
+/// Builds a [`Program`] from exact polynomials.
+pub struct ProgramBuilder<'c> {
+    prog: Program,
+    coefs: Option<&'c mut Coefficients>,
+    by_name: HashMap<String, u32>,
+    monomials: HashMap<Monomial, u32>,
+    inputs: HashMap<Input, u32>,
+    zs: HashMap<u32, Expr>,
+}
+
+impl<'c> ProgramBuilder<'c> {
+    /// A builder; kernel programs fold parameters into `coefs`, the
+    /// coefficient program (`None`) reads parameters directly.
+    pub fn new(coefs: Option<&'c mut Coefficients>) -> Self {
+        Self {
+            prog: Program::default(),
+            coefs,
+            by_name: HashMap::new(),
+            monomials: HashMap::new(),
+            inputs: HashMap::new(),
+            zs: HashMap::new(),
+        }
     }
 
     fn slot(&mut self, name: String) -> u32 {
-        let id = self.prog.names.len() as u32;
-        self.by_name.insert(name.clone(), id);
-        self.prog.names.push(name);
-        id
-    }
-
-    fn input(&mut self, s: Sym) -> u32 {
-        let name = s.to_string();
-        if let Some(&id) = self.by_name.get(&name) {
-            return id;
-        }
-        let input = match s {
-            Sym::Param(p) => Input::Param(p),
-            Sym::Q(i) => Input::Q(i as usize),
-            other => panic!("{other} is not a runtime input"),
-        };
-        let id = self.slot(name);
-        self.prog.inputs.push((id, input));
-        id
-    }
-
-    /// A temporary `let name = expr;`.
-    pub fn temp(&mut self, name: &str, expr: Expr) -> Expr {
-        let mut n = name.to_string();
+        let mut n = name.clone();
         let mut k = 1;
         while self.by_name.contains_key(&n) {
             k += 1;
             n = format!("{name}_{k}");
         }
-        let id = self.slot(n);
+        let id = self.prog.names.len() as u32;
+        self.by_name.insert(n.clone(), id);
+        self.prog.names.push(n);
+        id
+    }
+
+    fn input(&mut self, i: Input) -> u32 {
+        if let Some(&id) = self.inputs.get(&i) {
+            return id;
+        }
+        let name = match i {
+            Input::Param(p) => p.field().to_string(),
+            Input::Coef(c) => format!("c{c}"),
+            Input::Sym(s) => s.to_string(),
+        };
+        let id = self.slot(name);
+        self.prog.inputs.push((id, i));
+        self.inputs.insert(i, id);
+        id
+    }
+
+    /// A temporary `let name = expr;`.
+    pub fn temp(&mut self, name: &str, expr: Expr) -> Expr {
+        let id = self.slot(name.to_string());
         self.prog.stmts.push((id, expr));
         Expr::Var(id)
     }
 
-    /// An expression for a monomial of runtime symbols, built from memoized
-    /// prefix products: `s^e = s^(e−1)·s`, `s^−e = (1/s)^e`, and
-    /// `f₁…f_n = (f₁…f_{n−1})·f_n`.
+    fn sym_expr(&mut self, s: Sym) -> Expr {
+        match s {
+            Sym::Z(m) => self.zs.get(&m).cloned().unwrap_or_else(|| {
+                panic!("intermediate z{m} used before it was bound (a generator bug)")
+            }),
+            Sym::Param(p) => Expr::Var(self.input(Input::Param(p))),
+            s => Expr::Var(self.input(Input::Sym(s))),
+        }
+    }
+
+    /// An expression for a monomial, built from memoized prefix products:
+    /// `s^e = s^(e−1)·s`, `s^−e = (1/s)^e`, `f₁…f_n = (f₁…f_{n−1})·f_n`.
     pub fn monomial(&mut self, m: &Monomial) -> Expr {
         if let Some(&id) = self.monomials.get(m) {
             return Expr::Var(id);
@@ -324,9 +413,7 @@ impl ProgramBuilder {
         let expr = if f.len() == 1 {
             let (s, e) = f[0];
             if e == 1 {
-                let id = self.input(s);
-                self.monomials.insert(m.clone(), id);
-                return Expr::Var(id);
+                return self.sym_expr(s);
             }
             if e == -1 {
                 let x = self.monomial(&Monomial::var(s, 1));
@@ -346,7 +433,17 @@ impl ProgramBuilder {
         };
         let name = f
             .iter()
-            .map(|&(s, e)| factor_name(s, e))
+            .map(|&(s, e)| match s {
+                Sym::Z(m) => {
+                    let base = self.zname(m);
+                    if e == 1 {
+                        base
+                    } else {
+                        format!("{base}_{e}")
+                    }
+                }
+                s => factor_name(s, e),
+            })
             .collect::<Vec<_>>()
             .join("_");
         let v = self.temp(&name, expr);
@@ -356,20 +453,20 @@ impl ProgramBuilder {
         v
     }
 
-    /// `Σ c_i · X_i` as a left-to-right sum; `X_i = None` is the constant 1.
-    fn linear(&mut self, terms: Vec<(Rational, Option<Expr>)>) -> Expr {
+    fn zname(&self, m: u32) -> String {
+        match self.zs.get(&m) {
+            Some(Expr::Var(id)) => self.prog.names[*id as usize].clone(),
+            _ => format!("z{m}"),
+        }
+    }
+
+    /// `Σ ± |κ_i| · X_i` as a left-to-right sum.
+    fn signed_sum(terms: Vec<(bool, Expr)>) -> Expr {
         let mut acc: Option<Expr> = None;
-        for (c, x) in terms {
-            let neg = c.is_negative();
-            let a = c.abs();
-            let mag = match x {
-                None => Expr::Lit(to_f64(&a)),
-                Some(x) if a.is_one() => x,
-                Some(x) => Expr::mul(Expr::Lit(to_f64(&a)), x),
-            };
+        for (neg, x) in terms {
             acc = Some(match (acc, neg) {
-                (None, false) => mag,
-                (None, true) => match mag {
+                (None, false) => x,
+                (None, true) => match x {
                     Expr::Lit(v) => Expr::Lit(-v),
                     Expr::Mul(l, r) if matches!(*l, Expr::Lit(_)) => {
                         let Expr::Lit(v) = *l else { unreachable!() };
@@ -377,67 +474,130 @@ impl ProgramBuilder {
                     }
                     other => Expr::Neg(Box::new(other)),
                 },
-                (Some(s), false) => Expr::Add(Box::new(s), Box::new(mag)),
-                (Some(s), true) => Expr::Sub(Box::new(s), Box::new(mag)),
+                (Some(s), false) => Expr::Add(Box::new(s), Box::new(x)),
+                (Some(s), true) => Expr::Sub(Box::new(s), Box::new(x)),
             });
         }
         acc.unwrap_or(Expr::Lit(0.0))
     }
 
-    /// An expression for a polynomial in parameters and `q_f` entries:
-    /// terms grouped by their parameter monomial `P`, each group
-    /// `P · (Σ c · Q)` over monomials `Q` of `q_f`; zero terms never appear.
-    pub fn poly(&mut self, p: &Poly) -> Expr {
-        let mut groups: BTreeMap<Monomial, Vec<(Monomial, Rational)>> = BTreeMap::new();
-        for (m, c) in p.terms() {
-            let (params, qs) = m.split(|s| matches!(s, Sym::Param(_)));
-            groups.entry(params).or_default().push((qs, c.clone()));
+    /// `Σ ± |r| · P` of a polynomial in the parameters only (the coefficient
+    /// program's entries).
+    fn param_poly(&mut self, p: &Poly) -> Expr {
+        let mut terms = Vec::new();
+        for (m, r) in p.terms() {
+            let a = r.abs();
+            let e = match (m.is_one(), a.is_one()) {
+                (true, _) => Expr::Lit(to_f64(&a)),
+                (false, true) => self.monomial(m),
+                (false, false) => {
+                    let x = self.monomial(m);
+                    Expr::mul(Expr::Lit(to_f64(&a)), x)
+                }
+            };
+            terms.push((r.is_negative(), e));
         }
-        let mut outer: Vec<(Rational, Option<Expr>)> = Vec::new();
-        for (pm, inner) in groups {
-            let pe = (!pm.is_one()).then(|| self.monomial(&pm));
-            if inner.len() == 1 {
-                let (qm, c) = inner.into_iter().next().unwrap();
-                let qe = (!qm.is_one()).then(|| self.monomial(&qm));
-                let x = match (pe, qe) {
-                    (Some(a), Some(b)) => Some(Expr::mul(a, b)),
-                    (a, b) => a.or(b),
+        Self::signed_sum(terms)
+    }
+
+    /// A coefficient polynomial `C(params)` as `± κ`: a literal (`None` for
+    /// 1) when it has no parameters, else a coefficient slot (or, in the
+    /// coefficient program, the expression itself).
+    fn coefficient(&mut self, c: &Poly) -> (bool, Option<Expr>) {
+        if let Some(r) = c.as_constant() {
+            let a = r.abs();
+            return (r.is_negative(), (!a.is_one()).then(|| Expr::Lit(to_f64(&a))));
+        }
+        let neg = c.terms().next().is_some_and(|(_, r)| r.is_negative());
+        let norm = if neg { c.scale(&-Rational::one()) } else { c.clone() };
+        match self.coefs.as_deref_mut() {
+            Some(reg) => {
+                let i = reg.get(norm);
+                (neg, Some(Expr::Var(self.input(Input::Coef(i)))))
+            }
+            None => (neg, Some(self.param_poly(&norm))),
+        }
+    }
+
+    /// An expression for an exact polynomial over parameters, kernel inputs
+    /// and bound intermediates: `Σ_O O · (Σ_X ± κ_X · X)` over the frame
+    /// monomials `O` and the monomials `X` of coordinates and intermediates,
+    /// with one coefficient `κ_X` (a polynomial in the parameters) per `X`;
+    /// zero terms never appear.
+    pub fn poly(&mut self, p: &Poly) -> Expr {
+        let mut groups: BTreeMap<Monomial, BTreeMap<Monomial, Poly>> = BTreeMap::new();
+        for (m, c) in p.terms() {
+            let (params, rest) = m.split(|s| matches!(s, Sym::Param(_)));
+            let (outer, inner) = rest.split(is_outer);
+            groups
+                .entry(outer)
+                .or_default()
+                .entry(inner)
+                .or_default()
+                .add_term(params, c.clone());
+        }
+        let mut outer_terms: Vec<(bool, Expr)> = Vec::new();
+        for (om, inner) in groups {
+            let mut terms: Vec<(bool, Expr)> = Vec::new();
+            for (im, cp) in inner {
+                let (neg, k) = self.coefficient(&cp);
+                let x = (!im.is_one()).then(|| self.monomial(&im));
+                let e = match (k, x) {
+                    (Some(k), Some(x)) => Expr::mul(k, x),
+                    (Some(k), None) => k,
+                    (None, Some(x)) => x,
+                    (None, None) => Expr::Lit(1.0),
                 };
-                outer.push((c, x));
+                terms.push((neg, e));
+            }
+            if om.is_one() {
+                outer_terms.extend(terms);
+                continue;
+            }
+            let o = self.monomial(&om);
+            if terms.len() == 1 {
+                let (neg, e) = terms.pop().expect("one term");
+                let e = match e {
+                    Expr::Lit(v) if v == 1.0 => o,
+                    e => Expr::mul(o, e),
+                };
+                outer_terms.push((neg, e));
             } else {
-                let terms = inner
-                    .into_iter()
-                    .map(|(qm, c)| {
-                        let qe = (!qm.is_one()).then(|| self.monomial(&qm));
-                        (c, qe)
-                    })
-                    .collect();
-                let sum = self.linear(terms);
-                let x = match pe {
-                    Some(a) => Expr::mul(a, sum),
-                    None => sum,
-                };
-                outer.push((Rational::one(), Some(x)));
+                outer_terms.push((false, Expr::mul(o, Self::signed_sum(terms))));
             }
         }
-        self.linear(outer)
+        Self::signed_sum(outer_terms)
+    }
+
+    /// Bind the DAG intermediates that `outputs` need, as temporaries.
+    pub fn bind_dag(&mut self, dag: &Dag, outputs: &[&Poly]) {
+        for m in dag.reachable(outputs) {
+            if self.zs.contains_key(&m) {
+                continue;
+            }
+            let b = &dag.bindings()[m as usize];
+            let e = self.poly(&b.poly);
+            let v = match e {
+                Expr::Var(_) => e,
+                e => self.temp(&b.name, e),
+            };
+            self.zs.insert(m, v);
+        }
     }
 
     /// Add an output.
-    pub fn output(&mut self, t: Target, e: Expr) {
+    pub fn output(&mut self, t: (OutArr, u32), e: Expr) {
         self.prog.outputs.push((t, e));
     }
 
-    /// Add an output for a polynomial unless it is zero.
-    pub fn output_poly(&mut self, t: Target, p: &Poly) {
-        if !p.is_zero() {
+    /// A complete program for `outputs` over `dag`.
+    pub fn build(mut self, dag: &Dag, outputs: &[((OutArr, u32), Poly)]) -> Program {
+        let polys: Vec<&Poly> = outputs.iter().map(|(_, p)| p).collect();
+        self.bind_dag(dag, &polys);
+        for (t, p) in outputs {
             let e = self.poly(p);
-            self.output(t, e);
+            self.output(*t, e);
         }
-    }
-
-    /// The finished program.
-    pub fn finish(self) -> Program {
         self.prog
     }
 }
@@ -448,30 +608,47 @@ mod tests {
     use crate::poly::rat;
 
     #[test]
-    fn hoists_and_evaluates() {
+    fn folds_parameters_into_coefficients_and_evaluates() {
         let l = Sym::Param(Param::Length);
         let rho = Sym::Param(Param::Rho);
-        // 1/3 rho L^3 - 2 q0 q1 rho L^3 + rho/L
+        // 1/3 rho L^3 q0 − 2 q0 q1 rho L^3 w_z^2 + rho/L
         let mut p = Poly::zero();
         let rl3 = Monomial::var(rho, 1).mul(&Monomial::var(l, 3));
-        p.add_term(rl3.clone(), rat(1, 3));
+        p.add_term(rl3.mul(&Monomial::var(Sym::Q(0), 1)), rat(1, 3));
         p.add_term(
             rl3.mul(&Monomial::var(Sym::Q(0), 1))
-                .mul(&Monomial::var(Sym::Q(1), 1)),
+                .mul(&Monomial::var(Sym::Q(1), 1))
+                .mul(&Monomial::var(Sym::Frame(8), 2)),
             rat(-2, 1),
         );
         p.add_term(Monomial::var(rho, 1).mul(&Monomial::var(l, -1)), rat(1, 1));
-        let mut b = ProgramBuilder::new();
-        let e = b.poly(&p);
-        b.output(Target::Mass, e);
-        let prog = b.finish();
-        assert!(prog.names.contains(&"length_3".to_string()));
-        assert!(prog.names.contains(&"inv_length".to_string()));
-        let mut params = [0.0; 8];
-        params[0] = 2.0;
-        params[1] = 3.0;
-        let v = prog.eval(&params, &[0.5, 0.25])[0].1;
-        let expect = 3.0 * 8.0 / 3.0 - 2.0 * 0.125 * 3.0 * 8.0 + 3.0 / 2.0;
+        let mut coefs = Coefficients::default();
+        let prog = ProgramBuilder::new(Some(&mut coefs)).build(
+            &Dag::new(),
+            &[((OutArr::Energy, 0), p)],
+        );
+        assert_eq!(coefs.len(), 3);
+        assert!(prog.params().is_empty());
+        let cprog = coefs.program();
+        let params = [2.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.5];
+        let mut cslots = vec![0.0; cprog.tape().n_slots()];
+        let ct = cprog.tape();
+        ct.run(&Inputs { params: &params, ..Inputs::default() }, &mut cslots);
+        let c: Vec<f64> = ct.outputs.iter().map(|&(_, r)| cslots[r as usize]).collect();
+        let t = prog.tape();
+        let mut slots = vec![0.0; t.n_slots()];
+        let frame = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.7];
+        t.run(
+            &Inputs {
+                coef: &c,
+                frame: &frame,
+                q: &[0.5, 0.25],
+                ..Inputs::default()
+            },
+            &mut slots,
+        );
+        let v = slots[t.outputs[0].1 as usize];
+        let expect = 3.0 * 8.0 / 3.0 * 0.5 - 2.0 * 0.125 * 3.0 * 8.0 * 0.49 + 3.0 / 2.0;
         assert!((v - expect).abs() < 1e-14, "{v} vs {expect}");
     }
 }

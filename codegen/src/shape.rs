@@ -18,63 +18,10 @@ use crate::expr::parse_poly;
 use crate::poly::{Poly, Sym};
 use serde::Deserialize;
 use std::collections::BTreeMap;
-use std::fmt;
 use std::path::Path;
 use toml::Spanned;
 
-/// What an elastic coordinate is: a translation or rotation of its node.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Kind {
-    /// Translation along body x.
-    Ux,
-    /// Translation along body y.
-    Uy,
-    /// Translation along body z.
-    Uz,
-    /// Rotation about body x (torsion).
-    Rx,
-    /// Rotation about body y.
-    Ry,
-    /// Rotation about body z.
-    Rz,
-}
-
-impl Kind {
-    /// All kinds with their names.
-    pub const ALL: [(Kind, &'static str); 6] = [
-        (Kind::Ux, "ux"),
-        (Kind::Uy, "uy"),
-        (Kind::Uz, "uz"),
-        (Kind::Rx, "rx"),
-        (Kind::Ry, "ry"),
-        (Kind::Rz, "rz"),
-    ];
-
-    /// The kind's name as written in shape files and labels.
-    pub fn name(self) -> &'static str {
-        Kind::ALL
-            .iter()
-            .find(|(k, _)| *k == self)
-            .map(|(_, n)| *n)
-            .unwrap_or("?")
-    }
-
-    /// Whether the kind exists in a planar (x–y) shape.
-    pub fn is_planar(self) -> bool {
-        matches!(self, Kind::Ux | Kind::Uy | Kind::Rz)
-    }
-
-    /// Whether this is a translation.
-    pub fn is_translation(self) -> bool {
-        matches!(self, Kind::Ux | Kind::Uy | Kind::Uz)
-    }
-}
-
-impl fmt::Display for Kind {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
+pub use ffr_spec::Kind;
 
 /// One elastic coordinate of an element (a column of `S`).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -375,6 +322,17 @@ impl Shape {
     /// Number of element coordinates `n_e`.
     pub fn n_elem(&self) -> usize {
         self.coordinates.len()
+    }
+
+    /// The element coordinates as the mesh numbering sees them.
+    pub fn element_coordinates(&self) -> Vec<ffr_spec::ElementCoordinate> {
+        self.coordinates
+            .iter()
+            .map(|c| ffr_spec::ElementCoordinate {
+                node: c.node,
+                kind: c.kind,
+            })
+            .collect()
     }
 
     /// Kinds of one node in the order of the node-0 coordinates.

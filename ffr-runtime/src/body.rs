@@ -1,40 +1,269 @@
-//! A flexible body as the dynamics sees it: its constant inertia shape
-//! integrals (the invariants) and the terms that depend on the elastic
-//! coordinates `q_f` (theory sheet, "Mass matrix" and "Inertia shape integrals").
+//! A body as the dynamics sees it: its generalized inertia and elastic
+//! forces in body axes, their derivatives, its mass blocks and energy
+//! (theory: `docs/theory.md`, "Equations of motion in body axes").
 //!
-//! Generated code (`#[flex_body]`, `ffr_codegen::Builder`) implements
-//! [`FlexBody`] with unrolled expressions; [`InvariantBody`] implements it from
-//! numeric invariants by the theory-sheet formulas, for bodies that come from
-//! elsewhere and as a second route in cross-checks.
+//! A body with elastic coordinates `q_f` whose frame moves with `ā = Aᵀ(R̈ −
+//! g)`, `α = ω̄̇`, `ω = ω̄` (body axes) has the generalized forces
+//! `f_r` (3), `f_θ` (3) and `f_f` (`n_f`) of [`crate::kernel`]; the system
+//! forms `r_R = A f_r`, `r_θ = Ḡᵀ f_θ`, `r_f = f_f`. Flexible bodies
+//! assemble them from element kernels ([`crate::nodal::KernelBody`]);
+//! rigid bodies ([`crate::rigid::RigidBody`]) compute them directly.
 
+use crate::error::Result;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix3xX, Vector3};
 
-/// Section and material parameters of a beam body, as the runtime fields of
-/// generated code read them. SI units.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Params {
-    /// Body length `L` (m); elements have `l = L / N`.
-    pub length: f64,
-    /// Density `ρ` (kg/m³).
-    pub rho: f64,
-    /// Cross-section area `A` (m²).
-    pub area: f64,
-    /// Second moment `I_y = ∫z² dA` (m⁴).
-    pub iy: f64,
-    /// Second moment `I_z = ∫y² dA` (m⁴).
-    pub iz: f64,
-    /// Young's modulus `E` (Pa).
-    pub e: f64,
-    /// Shear modulus `G` (Pa).
-    pub g: f64,
-    /// Torsion constant `J` (m⁴).
-    pub j: f64,
+/// A square matrix with half-bandwidth `hb`: entry `(i, j)`, `|i − j| ≤ hb`,
+/// at `data[i·(2hb + 1) + (j + hb − i)]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BandBuf {
+    n: usize,
+    hb: usize,
+    data: Vec<f64>,
 }
 
-/// The constant inertia shape integrals and stiffness of a body.
+impl BandBuf {
+    /// An `n × n` zero matrix of half-bandwidth `hb`.
+    pub fn zeros(n: usize, hb: usize) -> Self {
+        Self {
+            n,
+            hb,
+            data: vec![0.0; n * (2 * hb + 1)],
+        }
+    }
+    /// Size.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+    /// Half-bandwidth.
+    pub fn half_bandwidth(&self) -> usize {
+        self.hb
+    }
+    /// Set every entry to zero.
+    pub fn clear(&mut self) {
+        self.data.iter_mut().for_each(|x| *x = 0.0);
+    }
+    #[inline]
+    fn at(&self, i: usize, j: usize) -> usize {
+        debug_assert!(i.abs_diff(j) <= self.hb && i < self.n && j < self.n);
+        i * (2 * self.hb + 1) + (j + self.hb - i)
+    }
+    /// Entry `(i, j)` (zero outside the band).
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        if i.abs_diff(j) > self.hb {
+            0.0
+        } else {
+            self.data[self.at(i, j)]
+        }
+    }
+    /// `A[i, j] += v` (inside the band).
+    #[inline]
+    pub fn add(&mut self, i: usize, j: usize, v: f64) {
+        let k = self.at(i, j);
+        self.data[k] += v;
+    }
+    /// Row `i` as `(first column, values)` over the band.
+    pub fn row(&self, i: usize) -> (usize, &[f64]) {
+        let w = 2 * self.hb + 1;
+        let lo = i.saturating_sub(self.hb);
+        let start = i * w + (lo + self.hb - i);
+        let hi = (i + self.hb).min(self.n - 1);
+        (lo, &self.data[start..start + (hi + 1 - lo)])
+    }
+    /// `y += s · A x`.
+    pub fn mul_add(&self, x: &[f64], s: f64, y: &mut [f64]) {
+        for (i, yi) in y.iter_mut().enumerate().take(self.n) {
+            let (lo, r) = self.row(i);
+            let mut acc = 0.0;
+            for (k, a) in r.iter().enumerate() {
+                acc += a * x[lo + k];
+            }
+            *yi += s * acc;
+        }
+    }
+    /// `self += s · other` (same shape).
+    pub fn add_scaled(&mut self, s: f64, other: &BandBuf) {
+        debug_assert_eq!((self.n, self.hb), (other.n, other.hb));
+        for (a, b) in self.data.iter_mut().zip(&other.data) {
+            *a += s * b;
+        }
+    }
+    /// As a dense matrix (checks and tests).
+    pub fn to_dense(&self) -> DMatrix<f64> {
+        DMatrix::from_fn(self.n, self.n, |i, j| self.get(i, j))
+    }
+}
+
+/// The static description of a body.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyLayout {
+    /// Shape dimension: 2 (the body lies in its x–y plane) or 3.
+    pub dim: usize,
+    /// Scene dimension its equations are written for (2 or 3).
+    pub scene_dim: usize,
+    /// Number of elastic coordinates.
+    pub nf: usize,
+    /// Half-bandwidth of the elastic blocks (`m_ff`, `K_ff`, tangents).
+    pub half_bandwidth: usize,
+    /// Whether the reference rows (`f_r`, `f_θ`) and frame derivatives can
+    /// be evaluated (otherwise the frame motion must be prescribed).
+    pub free_frame: bool,
+    /// A label for each elastic coordinate (`kind_node`, e.g. `uy_3`).
+    pub labels: Vec<String>,
+    /// The undeformed axis length of a beam body (markers `x = …` must lie
+    /// in `[0, length]`); `None` for a rigid body.
+    pub length: Option<f64>,
+    /// One line saying what the body is (for messages and reports).
+    pub description: String,
+}
+
+/// The state of one body passed to its force evaluation.
+#[derive(Clone, Copy, Debug)]
+pub struct BodyState<'a> {
+    /// `q_f`.
+    pub q_f: &'a [f64],
+    /// `q̇_f`.
+    pub qd_f: &'a [f64],
+    /// `q̈_f`.
+    pub qdd_f: &'a [f64],
+    /// `[ā, α, ω]` in body axes: `ā = Aᵀ(R̈ − g)`, `α = ω̄̇`, `ω = ω̄`.
+    pub frame: [f64; 9],
+}
+
+/// Generalized inertia and elastic forces of a body in body axes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyForces {
+    /// `f_r`.
+    pub f_r: [f64; 3],
+    /// `f_θ`.
+    pub f_th: [f64; 3],
+    /// `f_f` (`n_f`).
+    pub f_f: Vec<f64>,
+}
+
+impl BodyForces {
+    /// Zero forces for `nf` elastic coordinates.
+    pub fn zeros(nf: usize) -> Self {
+        Self {
+            f_r: [0.0; 3],
+            f_th: [0.0; 3],
+            f_f: vec![0.0; nf],
+        }
+    }
+    /// Set to zero.
+    pub fn clear(&mut self) {
+        self.f_r = [0.0; 3];
+        self.f_th = [0.0; 3];
+        self.f_f.iter_mut().for_each(|x| *x = 0.0);
+    }
+}
+
+/// Derivatives of [`BodyForces`] for a Newton iteration with
+/// `∂q̈/∂q = β'`, `∂q̇/∂q = γ'`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyTangent {
+    /// `β' ∂f_f/∂q̈_f + γ' ∂f_f/∂q̇_f + ∂f_f/∂q_f` (banded).
+    pub k_ff: BandBuf,
+    /// `∂f_f/∂[ā, α, ω]` (`n_f × 9`, row-major).
+    pub d_f_frame: Vec<f64>,
+    /// `β' ∂/∂q̈_f + γ' ∂/∂q̇_f + ∂/∂q_f` of `[f_r; f_θ]` (`6 × n_f`).
+    pub k_ref_f: Vec<f64>,
+    /// `∂[f_r; f_θ]/∂[ā, α, ω]` (`6 × 9`).
+    pub d_ref_frame: [f64; 54],
+}
+
+impl BodyTangent {
+    /// Zero derivatives for `nf` coordinates, half-bandwidth `hb`.
+    pub fn zeros(nf: usize, hb: usize) -> Self {
+        Self {
+            k_ff: BandBuf::zeros(nf, hb),
+            d_f_frame: vec![0.0; nf * 9],
+            k_ref_f: vec![0.0; 6 * nf],
+            d_ref_frame: [0.0; 54],
+        }
+    }
+    /// Set to zero.
+    pub fn clear(&mut self) {
+        self.k_ff.clear();
+        self.d_f_frame.iter_mut().for_each(|x| *x = 0.0);
+        self.k_ref_f.iter_mut().for_each(|x| *x = 0.0);
+        self.d_ref_frame = [0.0; 54];
+    }
+}
+
+/// The mass blocks of a body in body axes (the acceleration-linear part of
+/// [`BodyForces`]) and `S_t`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyMass {
+    /// `S_t = S_t0 + S̄ q_f`.
+    pub s_t: [f64; 3],
+    /// `m_ff` (banded).
+    pub m_ff: BandBuf,
+    /// `∂f_f/∂[ā, α] = [S̄ᵀ, Ī_θfᵀ]` (`n_f × 6`).
+    pub m_f_frame: Vec<f64>,
+    /// `∂[f_r; f_θ]/∂q̈_f = [S̄; Ī_θf]` (`6 × n_f`).
+    pub m_ref_f: Vec<f64>,
+    /// `∂[f_r; f_θ]/∂[ā, α] = [m I, −S̃_t; S̃_t, Ī_θθ]` (`6 × 6`).
+    pub m_ref_frame: [f64; 36],
+}
+
+impl BodyMass {
+    /// Zero blocks.
+    pub fn zeros(nf: usize, hb: usize) -> Self {
+        Self {
+            s_t: [0.0; 3],
+            m_ff: BandBuf::zeros(nf, hb),
+            m_f_frame: vec![0.0; nf * 6],
+            m_ref_f: vec![0.0; 6 * nf],
+            m_ref_frame: [0.0; 36],
+        }
+    }
+    /// Set to zero.
+    pub fn clear(&mut self) {
+        self.s_t = [0.0; 3];
+        self.m_ff.clear();
+        self.m_f_frame.iter_mut().for_each(|x| *x = 0.0);
+        self.m_ref_f.iter_mut().for_each(|x| *x = 0.0);
+        self.m_ref_frame = [0.0; 36];
+    }
+
+    /// The mass `m`.
+    pub fn mass(&self) -> f64 {
+        self.m_ref_frame[0]
+    }
+
+    /// `M v` in body axes for velocities `v̄ = AᵀṘ`, `ω`, `q̇_f`: the
+    /// translational momentum `p̄ = m v̄ − S̃_t ω + S̄ q̇_f`, the angular
+    /// momentum about the frame origin `h̄ = S̃_t v̄ + Ī_θθ ω + Ī_θf q̇_f`
+    /// (body axes) and `M_f v`.
+    pub fn momenta(&self, v: &[f64; 3], w: &[f64; 3], qd_f: &[f64]) -> ([f64; 6], Vec<f64>) {
+        let nf = qd_f.len();
+        let vw = [v[0], v[1], v[2], w[0], w[1], w[2]];
+        let mut h = [0.0; 6];
+        for r in 0..6 {
+            let mut s = 0.0;
+            for k in 0..6 {
+                s += self.m_ref_frame[r * 6 + k] * vw[k];
+            }
+            for a in 0..nf {
+                s += self.m_ref_f[r * nf + a] * qd_f[a];
+            }
+            h[r] = s;
+        }
+        let mut mf = vec![0.0; nf];
+        self.m_ff.mul_add(qd_f, 1.0, &mut mf);
+        for a in 0..nf {
+            for k in 0..6 {
+                mf[a] += self.m_f_frame[a * 6 + k] * vw[k];
+            }
+        }
+        (h, mf)
+    }
+}
+
+/// The constant inertia shape integrals and stiffness of a body (dense; for
+/// checks, exports and reports — the dynamics never assembles them).
 ///
-/// Index order `k, l ∈ {x, y, z} = {0, 1, 2}`. A planar body (`dim == 2`)
-/// lives in the body x–y plane: every z component is exactly zero.
+/// Index order `k, l ∈ {x, y, z}`. A planar body has zero z components.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Invariants {
     /// 2 (planar) or 3 (spatial).
@@ -47,7 +276,7 @@ pub struct Invariants {
     pub s_bar: Matrix3xX<f64>,
     /// `S̄_kl = ∫ρ S_kᵀ S_l dV` (n_f × n_f), `s_kl[k][l]`.
     pub s_kl: [[DMatrix<f64>; 3]; 3],
-    /// `Ī_kl = ∫ρ ū₀_k S_l dV` (1 × n_f, stored as a column), `i_kl[k][l]`.
+    /// `Ī_kl = ∫ρ ū₀_k S_l dV` (n_f, as a column), `i_kl[k][l]`.
     pub i_kl: [[DVector<f64>; 3]; 3],
     /// `Θ_kl = ∫ρ ū₀_k ū₀_l dV`.
     pub theta: Matrix3<f64>,
@@ -58,8 +287,7 @@ pub struct Invariants {
 }
 
 impl Invariants {
-    /// All-zero invariants of a body of dimension `dim` with `nf` elastic
-    /// coordinates (generated code fills in the non-zero entries).
+    /// All-zero invariants of a body of dimension `dim` with `nf` coordinates.
     pub fn zeros(dim: usize, nf: usize) -> Self {
         Self {
             dim,
@@ -80,210 +308,97 @@ impl Invariants {
     }
 }
 
-/// The `q_f`-dependent inertia terms of the mass matrix.
-#[derive(Clone, Debug, PartialEq)]
-pub struct InertiaTerms {
-    /// `S_t = S_t0 + S̄ q_f`.
-    pub s_t: Vector3<f64>,
-    /// `Ī_θθ = ∫ρ ũᵀ ũ dV` (the inertia tensor of the deformed body).
-    pub i_theta_theta: Matrix3<f64>,
-    /// `Ī_θf = ∫ρ ũ S dV` (3 × n_f).
-    pub i_theta_f: Matrix3xX<f64>,
+/// A point of a body on its undeformed axis (or any body-fixed point of a
+/// rigid body): undeformed position `ū₀` and the elastic coordinates that
+/// move it, `ū = ū₀ + Σ_j s_j q_f[dof_j]`, with its section rotation
+/// `ψ = Σ_j ψ_j q_f[dof_j]` (small rotation of the attached section).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PointShape {
+    /// `ū₀` in body axes.
+    pub u0: [f64; 3],
+    /// `(dof, s_j, ψ_j)` for the coordinates with a non-zero entry.
+    pub entries: Vec<(usize, [f64; 3], [f64; 3])>,
 }
 
-impl InertiaTerms {
-    /// Zeroed terms for a body with `nf` elastic coordinates.
-    pub fn zeros(nf: usize) -> Self {
-        Self {
-            s_t: Vector3::zeros(),
-            i_theta_theta: Matrix3::zeros(),
-            i_theta_f: Matrix3xX::zeros(nf),
-        }
-    }
+/// Per-body scratch space the caller owns (allocated once, by [`Body::work`]).
+#[derive(Clone, Debug, Default)]
+pub struct BodyWork {
+    /// Scratch values.
+    pub buf: Vec<f64>,
 }
 
-/// The blocks of the mass matrix `M = ∫ρ Lᵀ L dV` (theory sheet) for a body
-/// with rotation `A` and `Ḡ` (3 × n_θ, `ω̄ = Ḡ θ̇`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct MassBlocks {
-    /// `m_RR = m I` (the scalar `m`).
-    pub m_rr: f64,
-    /// `m_Rθ = −A S̃_t Ḡ` (3 × n_θ).
-    pub m_r_theta: Matrix3xX<f64>,
-    /// `m_Rf = A S̄` (3 × n_f).
-    pub m_rf: Matrix3xX<f64>,
-    /// `m_θθ = Ḡᵀ Ī_θθ Ḡ` (n_θ × n_θ).
-    pub m_theta_theta: DMatrix<f64>,
-    /// `m_θf = Ḡᵀ Ī_θf` (n_θ × n_f).
-    pub m_theta_f: DMatrix<f64>,
-}
+/// A body of a scene: flexible (element kernels, modal) or rigid.
+pub trait Body: Send + Sync {
+    /// Static description.
+    fn layout(&self) -> &BodyLayout;
 
-impl MassBlocks {
-    /// The blocks from the invariants, the `q_f`-dependent terms at the
-    /// current `q_f`, and `A`, `Ḡ` (`m_ff` is `inv.m_ff`, constant).
-    pub fn new(
-        inv: &Invariants,
-        terms: &InertiaTerms,
-        a: &Matrix3<f64>,
-        g_bar: &Matrix3xX<f64>,
-    ) -> Self {
-        let s_t = terms.s_t;
-        let s_t_skew = Matrix3::new(0.0, -s_t.z, s_t.y, s_t.z, 0.0, -s_t.x, -s_t.y, s_t.x, 0.0);
-        Self {
-            m_rr: inv.mass,
-            m_r_theta: -(a * s_t_skew * g_bar),
-            m_rf: a * &inv.s_bar,
-            m_theta_theta: g_bar.transpose() * terms.i_theta_theta * g_bar,
-            m_theta_f: g_bar.transpose() * &terms.i_theta_f,
-        }
-    }
-}
+    /// Scratch space for the evaluations (allocates; call once at set-up).
+    fn work(&self) -> BodyWork;
 
-/// A flexible body described by shape functions: what the FFR equations of
-/// motion need from it. Dyn-compatible, so scenes can hold `Box<dyn FlexBody>`.
-pub trait FlexBody {
-    /// Number of elastic coordinates `n_f`.
-    fn nf(&self) -> usize;
-    /// 2 for a planar body (it lives in the body x–y plane), 3 for a spatial one.
-    fn dim(&self) -> usize;
-    /// A label for each elastic coordinate (kind and body node, e.g. `uy_3`).
-    fn dof_labels(&self) -> Vec<String>;
+    /// `f_r`, `f_θ` (when `frame_rows`) and `f_f` at `state` into `out`
+    /// (cleared first).
+    fn forces(&self, state: &BodyState, frame_rows: bool, w: &mut BodyWork, out: &mut BodyForces);
 
-    /// The constant invariants evaluated for this body's parameters.
+    /// [`Body::forces`] and its derivatives (all of [`BodyTangent`] when
+    /// `frame_rows`, else only `k_ff`); both outputs are cleared first.
+    #[allow(clippy::too_many_arguments)]
+    fn tangent(
+        &self,
+        state: &BodyState,
+        bp: f64,
+        gp: f64,
+        frame_rows: bool,
+        w: &mut BodyWork,
+        out: &mut BodyForces,
+        t: &mut BodyTangent,
+    );
+
+    /// The mass blocks and `S_t` at `q_f` (cleared first).
+    fn mass(&self, q_f: &[f64], w: &mut BodyWork, out: &mut BodyMass);
+
+    /// Elastic energy `½ q_fᵀ K_ff q_f + U_nl(q_f)`.
+    fn elastic_energy(&self, q_f: &[f64], w: &mut BodyWork) -> f64;
+
+    /// The invariants (dense; set-up, checks and exports).
     fn invariants(&self) -> Invariants;
 
-    /// `S_t(q_f)`, `Ī_θθ(q_f)` and `Ī_θf(q_f)` into `out`
-    /// (`q_f.len() == nf()`, `out` sized for `nf()`).
-    fn inertia_terms(&self, q_f: &[f64], out: &mut InertiaTerms);
+    /// The point at `x` on the undeformed axis (a beam body), or an error
+    /// naming the valid range.
+    fn point_shape(&self, x: f64) -> Result<PointShape>;
+}
 
-    /// The mass-matrix blocks at `q_f` for rotation `A` and `Ḡ` (3 × n_θ),
-    /// from this body's invariants (pass them in: they are constant) and its
-    /// `q_f`-dependent terms. `m_ff` is `invariants.m_ff`.
-    fn mass_blocks(
+impl<B: Body + ?Sized> Body for Box<B> {
+    fn layout(&self) -> &BodyLayout {
+        (**self).layout()
+    }
+    fn work(&self) -> BodyWork {
+        (**self).work()
+    }
+    fn forces(&self, s: &BodyState, fr: bool, w: &mut BodyWork, out: &mut BodyForces) {
+        (**self).forces(s, fr, w, out)
+    }
+    fn tangent(
         &self,
-        invariants: &Invariants,
-        q_f: &[f64],
-        a: &Matrix3<f64>,
-        g_bar: &Matrix3xX<f64>,
-    ) -> MassBlocks {
-        let mut terms = InertiaTerms::zeros(self.nf());
-        self.inertia_terms(q_f, &mut terms);
-        MassBlocks::new(invariants, &terms, a, g_bar)
+        s: &BodyState,
+        bp: f64,
+        gp: f64,
+        fr: bool,
+        w: &mut BodyWork,
+        out: &mut BodyForces,
+        t: &mut BodyTangent,
+    ) {
+        (**self).tangent(s, bp, gp, fr, w, out, t)
     }
-
-    /// Whether [`FlexBody::stiffening`] adds anything (geometric stiffening
-    /// generated for this body).
-    fn has_stiffening(&self) -> bool {
-        false
+    fn mass(&self, q_f: &[f64], w: &mut BodyWork, out: &mut BodyMass) {
+        (**self).mass(q_f, w, out)
     }
-
-    /// Geometric (centrifugal) stiffening from the quadratic axial strain
-    /// `ε = u' + ½(v'² + w'²)` taken as its mean over each element (which
-    /// keeps coarse meshes free of membrane locking): with
-    /// `U_nl(q_f) = Σ_e EA l (½ ū' s̄ + ⅛ s̄²)` (`ū'`, `s̄`: element means of
-    /// `u'` and `v'² + w'²`), the part of the strain energy beyond
-    /// `½ q_fᵀ K_ff q_f`, this **adds**
-    /// `∂U_nl/∂q_f` to `force` and, when given, `∂²U_nl/∂q_f²` to `tangent`.
-    /// The elastic generalized force is then `−K_ff q_f − ∂U_nl/∂q_f`.
-    fn stiffening(&self, q_f: &[f64], force: &mut [f64], tangent: Option<&mut DMatrix<f64>>) {
-        let _ = (q_f, force, tangent);
+    fn elastic_energy(&self, q_f: &[f64], w: &mut BodyWork) -> f64 {
+        (**self).elastic_energy(q_f, w)
     }
-
-    /// The stiffening energy `U_nl(q_f)` (zero without stiffening).
-    ///
-    /// Default: `U_nl(q) = ∫₀¹ ∂U_nl/∂q(s q) · q ds`, by two-point Gauss–Legendre
-    /// quadrature on `[0, 1]` — exact because `U_nl` is a polynomial of degree
-    /// at most 4 with `U_nl(0) = 0`, so the integrand is a cubic in `s`.
-    fn stiffening_energy(&self, q_f: &[f64]) -> f64 {
-        if !self.has_stiffening() {
-            return 0.0;
-        }
-        let d = 0.5 / 3f64.sqrt();
-        let mut energy = 0.0;
-        let mut qs = vec![0.0; q_f.len()];
-        let mut f = vec![0.0; q_f.len()];
-        for s in [0.5 - d, 0.5 + d] {
-            qs.iter_mut().zip(q_f).for_each(|(a, b)| *a = s * b);
-            f.iter_mut().for_each(|x| *x = 0.0);
-            self.stiffening(&qs, &mut f, None);
-            energy += 0.5 * f.iter().zip(q_f).map(|(a, b)| a * b).sum::<f64>();
-        }
-        energy
-    }
-}
-
-/// A [`FlexBody`] whose layout is fixed at compile time (generated code).
-pub trait CompiledBody: FlexBody {
-    /// Number of elastic coordinates `n_f`.
-    const NF: usize;
-    /// 2 (planar) or 3 (spatial).
-    const DIM: usize;
-    /// A label for each elastic coordinate.
-    const DOFS: &'static [&'static str];
-}
-
-/// A body given by numeric invariants; its `q_f`-dependent terms follow the
-/// theory-sheet formulas
-///
-/// `U_kl = Θ_kl + (Ī_kl + Ī_lk) q + qᵀ S̄_kl q`, `Ī_θθ = tr(U) I − U`,
-/// `Ī_θf = [Ī_yz − Ī_zy + qᵀ(S̄_yz − S̄_zy); …]`.
-#[derive(Clone, Debug)]
-pub struct InvariantBody {
-    /// The invariants the body is made of.
-    pub invariants: Invariants,
-}
-
-impl InvariantBody {
-    /// The body with these invariants.
-    pub fn new(invariants: Invariants) -> Self {
-        Self { invariants }
-    }
-}
-
-impl FlexBody for InvariantBody {
-    fn nf(&self) -> usize {
-        self.invariants.nf()
-    }
-
-    fn dim(&self) -> usize {
-        self.invariants.dim
-    }
-
-    fn dof_labels(&self) -> Vec<String> {
-        (0..self.nf()).map(|i| format!("q{i}")).collect()
-    }
-
     fn invariants(&self) -> Invariants {
-        self.invariants.clone()
+        (**self).invariants()
     }
-
-    /// `S_t`, `Ī_θθ`, `Ī_θf` at `q_f` by the theory-sheet formulas.
-    fn inertia_terms(&self, q_f: &[f64], out: &mut InertiaTerms) {
-        let inv = &self.invariants;
-        let nf = inv.nf();
-        assert_eq!(
-            q_f.len(),
-            nf,
-            "q_f has {} entries, the body has {nf} elastic coordinates",
-            q_f.len()
-        );
-        let q = DVector::from_column_slice(q_f);
-        out.s_t = inv.s_t0 + &inv.s_bar * &q;
-        let mut u = Matrix3::zeros();
-        for k in 0..3 {
-            for l in 0..3 {
-                u[(k, l)] = inv.theta[(k, l)]
-                    + (&inv.i_kl[k][l] + &inv.i_kl[l][k]).dot(&q)
-                    + q.dot(&(&inv.s_kl[k][l] * &q));
-            }
-        }
-        out.i_theta_theta = Matrix3::identity() * u.trace() - u;
-        // Row r of Ī_θf is Ī_ab − Ī_ba + qᵀ(S̄_ab − S̄_ba) with (a, b) cyclic after r.
-        out.i_theta_f = Matrix3xX::zeros(nf);
-        for (r, (a, b)) in [(1, 2), (2, 0), (0, 1)].into_iter().enumerate() {
-            let row = &inv.i_kl[a][b] - &inv.i_kl[b][a]
-                + (inv.s_kl[a][b].transpose() - inv.s_kl[b][a].transpose()) * &q;
-            out.i_theta_f.set_row(r, &row.transpose());
-        }
+    fn point_shape(&self, x: f64) -> Result<PointShape> {
+        (**self).point_shape(x)
     }
 }

@@ -48,4 +48,10 @@ impl Driver {
     pub fn eval(&self, t: f64) -> [f64; 3] {
         (self.0)(t)
     }
+    /// `g([f, ḟ, f̈])`: a new driver from this one's value and derivatives
+    /// (the caller supplies the chain rule).
+    pub fn map(&self, g: impl Fn([f64; 3]) -> [f64; 3] + Send + Sync + 'static) -> Self {
+        let f = self.0.clone();
+        Self::new(move |t| g(f(t)))
+    }
 }

@@ -1,9 +1,21 @@
-//! Time integration: generalized-α for the index-3 DAE (Arnold & Brüls 2007)
-//! and explicit RK4 on the index-1 form with Baumgarte stabilization.
+//! Time integration: generalized-α for the index-3 equations (Arnold & Brüls
+//! 2007) with Newton iterations on the analytic iteration matrix, and
+//! explicit RK4 on the index-1 form with Baumgarte stabilization.
+//!
+//! Newton convergence is judged on the accelerations a step produces: an
+//! iteration is converged when every update of a free coordinate, scaled to
+//! an acceleration (`β' Δq`), is below `rtol` times that coordinate's
+//! acceleration scale (its own `|q̈|` plus the largest `|q̈|` of its class —
+//! frame translations, frame rotations, elastic translations, elastic
+//! rotations of one body — plus `10⁻⁶` of the largest of all), and likewise
+//! every multiplier update relative to its joint's multipliers. This is
+//! independent of the step size and of the units, so the answer converges as
+//! `dt` shrinks and meshes refine.
 
+use crate::assembly::Assembly;
+use crate::body::Body;
 use crate::error::{Error, Result};
-use crate::system::{State, System};
-use nalgebra::{DMatrix, DVector, Dyn, LU};
+use crate::system::System;
 use std::ops::ControlFlow;
 
 /// Generalized-α settings.
@@ -11,10 +23,8 @@ use std::ops::ControlFlow;
 pub struct GeneralizedAlpha {
     /// Spectral radius at infinite frequency `ρ∞ ∈ [0, 1]` (1: no numerical damping).
     pub rho_inf: f64,
-    /// Relative Newton tolerance on the increments.
+    /// Relative Newton tolerance on the accelerations.
     pub rtol: f64,
-    /// Absolute Newton tolerance on the increments.
-    pub atol: f64,
     /// Maximum Newton iterations per step.
     pub max_iter: usize,
 }
@@ -23,9 +33,8 @@ impl Default for GeneralizedAlpha {
     fn default() -> Self {
         Self {
             rho_inf: 0.8,
-            rtol: 1e-9,
-            atol: 1e-11,
-            max_iter: 30,
+            rtol: 1e-10,
+            max_iter: 25,
         }
     }
 }
@@ -83,15 +92,42 @@ impl Default for Integrator {
     }
 }
 
+/// The state of a system.
+#[derive(Clone, Debug, PartialEq)]
+pub struct State {
+    /// Time.
+    pub t: f64,
+    /// Generalized coordinates.
+    pub q: Vec<f64>,
+    /// Generalized velocities.
+    pub v: Vec<f64>,
+    /// Accelerations `q̈`.
+    pub a: Vec<f64>,
+    /// Lagrange multipliers (one per constraint row incl. normalizations).
+    pub lambda: Vec<f64>,
+}
+
 /// What an observer sees after each step (and once for the initial state, `step == 0`).
-#[derive(Debug)]
-pub struct StepView<'a> {
+pub struct StepView<'a, 's, B: Body> {
     /// Number of steps taken.
     pub step: usize,
     /// The state.
     pub state: &'a State,
     /// Newton iterations of the last step (0 for explicit / initial).
     pub iterations: usize,
+    /// The assembled equations (energies, momenta, marker positions).
+    pub assembly: &'a mut Assembly<'s, B>,
+}
+
+impl<B: Body> StepView<'_, '_, B> {
+    /// Energies at the state.
+    pub fn energy(&mut self) -> crate::Energy {
+        self.assembly.energy(&self.state.q, &self.state.v)
+    }
+    /// Linear and angular momentum (about the origin) at the state.
+    pub fn momentum(&mut self) -> (nalgebra::Vector3<f64>, nalgebra::Vector3<f64>) {
+        self.assembly.momentum(&self.state.q, &self.state.v)
+    }
 }
 
 /// Outcome of a simulation.
@@ -105,39 +141,81 @@ pub struct Summary {
     pub stopped: bool,
     /// Total Newton iterations.
     pub newton_iterations: usize,
-    /// Iteration-matrix evaluations.
+    /// Iteration-matrix evaluations (and factorizations).
     pub jacobians: usize,
 }
 
-/// A stored trajectory.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Trajectory {
-    /// Times.
-    pub t: Vec<f64>,
-    /// Coordinates.
-    pub q: Vec<DVector<f64>>,
-    /// Velocities.
-    pub v: Vec<DVector<f64>>,
+/// Preallocated vectors of the linear solves.
+struct Lin {
+    r: Vec<f64>,
+    x: Vec<f64>,
+    rhs: Vec<f64>,
+    lam0: Vec<f64>,
+    gam: Vec<f64>,
+    vv: Vec<f64>,
 }
 
-fn check_finite(x: &DVector<f64>, what: &'static str, step: usize, t: f64) -> Result<()> {
-    if x.iter().all(|v| v.is_finite()) {
-        Ok(())
-    } else {
-        Err(Error::NonFinite { what, step, t })
+/// Preallocated vectors of the steps.
+struct Work {
+    lin: Lin,
+    acc: Vec<f64>,
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    lam: Vec<f64>,
+    lam_phys: Vec<f64>,
+    k: [Vec<f64>; 8],
+    class_max: Vec<f64>,
+    coord_class: Vec<u32>,
+    mult_class: Vec<u32>,
+    jac_h: f64,
+    have_jac: bool,
+}
+
+impl Work {
+    fn new<B: Body>(asm: &Assembly<B>) -> Self {
+        let (n, m) = (asm.n, asm.m);
+        let (cc, mc, classes) = asm.classes();
+        Self {
+            lin: Lin {
+                r: vec![0.0; n + m],
+                x: vec![0.0; n + m],
+                rhs: vec![0.0; n + m],
+                lam0: vec![0.0; m],
+                gam: vec![0.0; m],
+                vv: vec![0.0; m],
+            },
+            acc: vec![0.0; n],
+            q: vec![0.0; n],
+            v: vec![0.0; n],
+            a: vec![0.0; n],
+            lam: vec![0.0; m],
+            lam_phys: vec![0.0; m],
+            k: std::array::from_fn(|_| vec![0.0; n]),
+            class_max: vec![0.0; classes],
+            coord_class: cc.to_vec(),
+            mult_class: mc.to_vec(),
+            jac_h: f64::NAN,
+            have_jac: false,
+        }
     }
 }
 
-impl System {
+fn all_finite(x: &[f64]) -> bool {
+    x.iter().all(|v| v.is_finite())
+}
+
+impl<B: Body> System<B> {
     /// Integrate from the consistent initial state at `t = 0` to `t_end` with
     /// step `dt`, calling `observer` at the start and after each step (it may
-    /// stop the run with `ControlFlow::Break`).
+    /// stop the run with `ControlFlow::Break`). Nothing is allocated inside a
+    /// step.
     pub fn simulate(
         &self,
         t_end: f64,
         dt: f64,
         integrator: &Integrator,
-        mut observer: impl FnMut(&StepView) -> ControlFlow<()>,
+        mut observer: impl FnMut(&mut StepView<B>) -> ControlFlow<()>,
     ) -> Result<Summary> {
         if !(dt > 0.0 && dt.is_finite() && t_end.is_finite() && t_end >= 0.0) {
             return Err(Error::InvalidInput(format!(
@@ -151,9 +229,24 @@ impl System {
                     g.rho_inf
                 )));
             }
+            if !(g.rtol > 0.0 && g.rtol < 1.0) || g.max_iter == 0 {
+                return Err(Error::InvalidInput(format!(
+                    "Newton tolerance {} must be in (0, 1) with at least one iteration",
+                    g.rtol
+                )));
+            }
         }
-        let n_steps = ((t_end / dt) - 1e-9).ceil().max(0.0) as usize;
-        let mut state = self.initial_state(0.0)?;
+        let steps_f = (t_end / dt - 1e-9).ceil().max(0.0);
+        if steps_f > 1e10 {
+            return Err(Error::InvalidInput(format!(
+                "t_end / dt = {steps_f:e} steps is more than this program will take"
+            )));
+        }
+        let n_steps = steps_f as usize;
+        let mut asm = Assembly::new(self)?;
+        let mut w = Work::new(&asm);
+        let mut state = initial_state(&mut asm, &mut w.lin, 0.0)?;
+        w.acc.copy_from_slice(&state.a);
         let mut summary = Summary {
             steps: 0,
             last: state.clone(),
@@ -161,41 +254,40 @@ impl System {
             newton_iterations: 0,
             jacobians: 0,
         };
-        if observer(&StepView {
+        let mut view = StepView {
             step: 0,
             state: &state,
             iterations: 0,
-        })
-        .is_break()
-        {
+            assembly: &mut asm,
+        };
+        if observer(&mut view).is_break() {
             summary.stopped = true;
             return Ok(summary);
         }
-        let mut ga = GaWork::default();
-        let mut acc = state.a.clone();
         for step in 0..n_steps {
-            let h = (t_end - state.t).min(dt);
+            let t0 = state.t;
+            let h = (t_end - t0).min(dt);
             let h = if h < 1e-12 * dt { dt } else { h };
             let iters = match integrator {
                 Integrator::GeneralizedAlpha(g) => {
-                    let (it, jacs) = self.ga_step(g, &mut state, &mut acc, h, step, &mut ga)?;
+                    let (it, jacs) = ga_step(&mut asm, g, &mut state, &mut w, h, step)?;
                     summary.jacobians += jacs;
                     it
                 }
                 Integrator::Rk4(r) => {
-                    self.rk4_step(r, &mut state, h, step)?;
+                    rk4_step(&mut asm, r, &mut state, &mut w, h, step)?;
                     0
                 }
             };
             summary.newton_iterations += iters;
             summary.steps = step + 1;
-            if observer(&StepView {
+            let mut view = StepView {
                 step: step + 1,
                 state: &state,
                 iterations: iters,
-            })
-            .is_break()
-            {
+                assembly: &mut asm,
+            };
+            if observer(&mut view).is_break() {
                 summary.stopped = true;
                 break;
             }
@@ -204,273 +296,316 @@ impl System {
         Ok(summary)
     }
 
-    /// [`System::simulate`] storing every `every`-th state.
-    pub fn simulate_trajectory(
-        &self,
-        t_end: f64,
-        dt: f64,
-        integrator: &Integrator,
-        every: usize,
-    ) -> Result<(Trajectory, Summary)> {
-        let mut tr = Trajectory::default();
-        let every = every.max(1);
-        let s = self.simulate(t_end, dt, integrator, |v| {
-            if v.step % every == 0 {
-                tr.t.push(v.state.t);
-                tr.q.push(v.state.q.clone());
-                tr.v.push(v.state.v.clone());
-            }
-            ControlFlow::Continue(())
-        })?;
-        Ok((tr, s))
-    }
-
-    fn rk4_step(&self, r: &Rk4Baumgarte, s: &mut State, h: f64, step: usize) -> Result<()> {
-        let f = |t: f64, q: &DVector<f64>, v: &DVector<f64>| {
-            self.accelerations(t, q, v, (r.alpha, r.beta))
-        };
-        let t = s.t;
-        let (a1, _) = f(t, &s.q, &s.v)?;
-        let (q2, v2) = (&s.q + &s.v * (h / 2.0), &s.v + &a1 * (h / 2.0));
-        let (a2, _) = f(t + h / 2.0, &q2, &v2)?;
-        let (q3, v3) = (&s.q + &v2 * (h / 2.0), &s.v + &a2 * (h / 2.0));
-        let (a3, _) = f(t + h / 2.0, &q3, &v3)?;
-        let (q4, v4) = (&s.q + &v3 * h, &s.v + &a3 * h);
-        let (a4, _) = f(t + h, &q4, &v4)?;
-        s.q += (&s.v + &v2 * 2.0 + &v3 * 2.0 + &v4) * (h / 6.0);
-        s.v += (&a1 + &a2 * 2.0 + &a3 * 2.0 + &a4) * (h / 6.0);
-        s.t = t + h;
-        check_finite(&s.q, "coordinates", step, t)?;
-        check_finite(&s.v, "velocities", step, t)?;
-        let (a, l) = f(s.t, &s.q, &s.v)?;
-        s.a = a;
-        s.lambda = l;
-        Ok(())
+    /// The consistent initial state at `t0`: prescribed coordinates from their
+    /// drivers, positions and velocities projected onto the constraints
+    /// (mass-weighted least-squares corrections of the free coordinates),
+    /// accelerations and multipliers from the index-1 equations.
+    pub fn initial_state(&self, t0: f64) -> Result<State> {
+        let mut asm = Assembly::new(self)?;
+        let mut w = Work::new(&asm);
+        initial_state(&mut asm, &mut w.lin, t0)
     }
 }
 
-/// Reusable iteration matrix of the generalized-α Newton iterations.
-#[derive(Default)]
-struct GaWork {
-    lu: Option<(LU<f64, Dyn, Dyn>, f64)>,
+fn initial_state<B: Body>(asm: &mut Assembly<B>, w: &mut Lin, t0: f64) -> Result<State> {
+    let (n, m) = (asm.n, asm.m);
+    let (q0, v0) = asm.sys.initial_coords();
+    let mut q = q0.to_vec();
+    let mut v = v0.to_vec();
+    let mut a = vec![0.0; n];
+    asm.apply_prescribed(t0, &mut q, &mut v, &mut a);
+    if !all_finite(&q) || !all_finite(&v) || !all_finite(&a) {
+        return Err(Error::InvalidInput(format!(
+            "non-finite initial state or prescribed motion at t = {t0}"
+        )));
+    }
+    let lam0 = w.lam0.clone();
+    if m > 0 {
+        let scale = 1.0 + q.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+        let mut violation = f64::INFINITY;
+        for _ in 0..50 {
+            asm.residual(t0, &q, &v, &a, &lam0, &mut w.r);
+            violation = w.r[n..].iter().fold(0.0f64, |s, x| s.max(x.abs()));
+            if violation <= 1e-13 * scale {
+                break;
+            }
+            asm.mass_system(t0, &q);
+            asm.factor(t0, "initial projection [M Φ_qᵀ; Φ_q 0]")?;
+            w.rhs[..n].iter_mut().for_each(|x| *x = 0.0);
+            for k in 0..m {
+                w.rhs[n + k] = -w.r[n + k];
+            }
+            asm.solve(&w.rhs, &mut w.x);
+            for c in 0..n {
+                q[c] += w.x[c];
+            }
+        }
+        if !(violation <= 1e-10 * scale) {
+            return Err(Error::Inconsistent { violation });
+        }
+        // Velocities: M Δv + Φ_qᵀ μ = 0, Φ_q Δv = −(Φ_q v + Φ_t).
+        asm.residual(t0, &q, &v, &a, &lam0, &mut w.r);
+        asm.velocity_violation(&v, &q, &mut w.vv);
+        asm.mass_system(t0, &q);
+        asm.factor(t0, "initial projection [M Φ_qᵀ; Φ_q 0]")?;
+        w.rhs[..n].iter_mut().for_each(|x| *x = 0.0);
+        for k in 0..m {
+            w.rhs[n + k] = -w.vv[k];
+        }
+        asm.solve(&w.rhs, &mut w.x);
+        for c in 0..n {
+            v[c] += w.x[c];
+        }
+    }
+    let mut lam = vec![0.0; m];
+    accelerations(asm, w, t0, &q, &v, &mut a, &mut lam, (0.0, 0.0))?;
+    Ok(State {
+        t: t0,
+        q,
+        v,
+        a,
+        lambda: lam,
+    })
 }
 
-impl System {
-    /// Scaled residual `[(M q̈ − Q)/β' + Φ_qᵀ λ̃; Φ]`, `λ̃ = λ/β'`.
-    fn ga_residual(
-        &self,
-        t: f64,
-        q: &DVector<f64>,
-        v: &DVector<f64>,
-        a: &DVector<f64>,
-        lam: &DVector<f64>,
-        bp: f64,
-    ) -> DVector<f64> {
-        let (n, m) = (self.n_coords(), self.n_constraints());
-        let mut r = DVector::zeros(n + m);
-        let mut dyn_part = self.mass_matrix(q) * a - self.forces(t, q, v);
-        dyn_part /= bp;
-        let c = self.constraints(t, q);
-        dyn_part += c.jac.transpose() * lam;
-        r.rows_mut(0, n).copy_from(&dyn_part);
-        r.rows_mut(n, m).copy_from(&c.phi);
-        r
+/// Solve the index-1 equations for the free accelerations (prescribed ones
+/// are in `a` already) and the multipliers, with Baumgarte gains `(α, β)`.
+#[allow(clippy::too_many_arguments)]
+fn accelerations<B: Body>(
+    asm: &mut Assembly<B>,
+    w: &mut Lin,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    a: &mut [f64],
+    lam: &mut [f64],
+    baumgarte: (f64, f64),
+) -> Result<()> {
+    let (n, m) = (asm.n, asm.m);
+    for c in 0..n {
+        if !asm.is_prescribed(c) {
+            a[c] = 0.0;
+        }
     }
-
-    /// Iteration matrix `∂r/∂(q, λ̃)` with `∂q̇/∂q = γ'`, `∂q̈/∂q = β'`: body
-    /// blocks and the interaction rows (force elements, `Φ_qᵀλ̃`, `Φ`) by
-    /// forward differences, `∂r/∂λ̃ = [Φ_qᵀ; 0]` exactly.
-    #[allow(clippy::too_many_arguments)]
-    fn ga_jacobian(
-        &self,
-        t: f64,
-        q: &DVector<f64>,
-        v: &DVector<f64>,
-        a: &DVector<f64>,
-        lam: &DVector<f64>,
-        bp: f64,
-        gp: f64,
-    ) -> DMatrix<f64> {
-        let (n, m) = (self.n_coords(), self.n_constraints());
-        let mut j = DMatrix::zeros(n + m, n + m);
-        let eps_of = |x: f64| 1e-7 * (1.0 + x.abs());
-        // Body blocks.
-        for i in 0..self.n_bodies() {
-            let o = self.offsets_of(i);
-            let nb = self.body(crate::BodyId(i)).n_coords();
-            let mut qb = q.as_slice()[o..o + nb].to_vec();
-            let mut vb = v.as_slice()[o..o + nb].to_vec();
-            let mut ab = a.as_slice()[o..o + nb].to_vec();
-            let r0 = self.body_residual(i, &qb, &vb, &ab);
-            for k in 0..nb {
-                let e = eps_of(qb[k]);
-                let (q0, v0, a0) = (qb[k], vb[k], ab[k]);
-                qb[k] += e;
-                vb[k] += gp * e;
-                ab[k] += bp * e;
-                let r1 = self.body_residual(i, &qb, &vb, &ab);
-                (qb[k], vb[k], ab[k]) = (q0, v0, a0);
-                let col = (r1 - &r0) / (e * bp);
-                j.view_mut((o, o + k), (nb, 1)).copy_from(&col);
-            }
-        }
-        // Interactions.
-        if m > 0 || self.has_elements() {
-            let inter = |q: &DVector<f64>, v: &DVector<f64>| {
-                let c = self.constraints(t, q);
-                let mut r = DVector::zeros(n + m);
-                let f = -self.element_forces(t, q, v) / bp + c.jac.transpose() * lam;
-                r.rows_mut(0, n).copy_from(&f);
-                r.rows_mut(n, m).copy_from(&c.phi);
-                (r, c.jac)
-            };
-            let (r0, jac) = inter(q, v);
-            let (mut qp, mut vp) = (q.clone(), v.clone());
-            for k in 0..n {
-                let e = eps_of(q[k]);
-                qp[k] += e;
-                vp[k] += gp * e;
-                let (r1, _) = inter(&qp, &vp);
-                qp[k] = q[k];
-                vp[k] = v[k];
-                let mut col = j.column_mut(k);
-                col += (r1 - &r0) / e;
-            }
-            j.view_mut((0, n), (n, m)).copy_from(&jac.transpose());
-        }
-        j
+    asm.residual(t, q, v, a, &w.lam0, &mut w.r);
+    if !all_finite(&w.r) {
+        return Err(Error::Unstable {
+            what: "forces or constraint terms",
+            t,
+        });
     }
+    asm.gamma(t, v, &mut w.gam);
+    asm.velocity_violation(v, q, &mut w.vv);
+    asm.mass_system(t, q);
+    asm.factor(t, "mass system [M Φ_qᵀ; Φ_q 0]")?;
+    let (al, be) = baumgarte;
+    for c in 0..n {
+        w.rhs[c] = -w.r[c];
+    }
+    for k in 0..m {
+        w.rhs[n + k] = w.gam[k] - 2.0 * al * w.vv[k] - be * be * w.r[n + k];
+    }
+    asm.solve(&w.rhs, &mut w.x);
+    if !all_finite(&w.x) {
+        return Err(Error::Unstable {
+            what: "accelerations",
+            t,
+        });
+    }
+    for c in 0..n {
+        if !asm.is_prescribed(c) {
+            a[c] = w.x[c];
+        }
+    }
+    lam.copy_from_slice(&w.x[n..n + m]);
+    Ok(())
+}
 
-    /// One generalized-α step (Arnold & Brüls 2007), Newton on `q_{n+1}` and
-    /// `λ̃` with a reused iteration matrix. `acc` is the algorithmic acceleration `a`.
-    fn ga_step(
-        &self,
-        g: &GeneralizedAlpha,
-        s: &mut State,
-        acc: &mut DVector<f64>,
-        h: f64,
-        step: usize,
-        w: &mut GaWork,
-    ) -> Result<(usize, usize)> {
-        let (am, af, gamma, beta) = g.coefficients();
-        let bp = (1.0 - am) / ((1.0 - af) * beta * h * h);
-        let gp = gamma / (beta * h);
-        let (t0, n) = (s.t, self.n_coords());
-        let t = t0 + h;
-        // Predictor.
-        let a_new = (&s.a * af - &*acc * am) / (1.0 - am);
-        let mut v = &s.v + &*acc * (h * (1.0 - gamma)) + &a_new * (h * gamma);
-        let mut q = &s.q + &s.v * h + &*acc * (h * h * (0.5 - beta)) + &a_new * (h * h * beta);
-        let mut qdd = DVector::zeros(n);
-        let mut lam = &s.lambda / bp;
-        let mut jacs = 0;
-        if w.lu
-            .as_ref()
-            .is_some_and(|(_, hh)| (*hh - h).abs() > 1e-12 * h)
-        {
-            w.lu = None;
+fn rk4_step<B: Body>(
+    asm: &mut Assembly<B>,
+    r: &Rk4Baumgarte,
+    s: &mut State,
+    w: &mut Work,
+    h: f64,
+    step: usize,
+) -> Result<()> {
+    let n = asm.n;
+    let t = s.t;
+    let g = (r.alpha, r.beta);
+    // k[2i] = q̇ and k[2i + 1] = q̈ of stage i.
+    for (i, c) in [0.0, 0.5, 0.5, 1.0].into_iter().enumerate() {
+        let ts = t + c * h;
+        for j in 0..n {
+            if i == 0 {
+                w.q[j] = s.q[j];
+                w.v[j] = s.v[j];
+            } else {
+                w.q[j] = s.q[j] + c * h * w.k[2 * i - 2][j];
+                w.v[j] = s.v[j] + c * h * w.k[2 * i - 1][j];
+            }
         }
-        let mut prev = f64::INFINITY;
-        let mut res_norm = f64::NAN;
-        for it in 1..=g.max_iter {
-            let r = self.ga_residual(t, &q, &v, &qdd, &lam, bp);
-            res_norm = r.norm();
-            if !res_norm.is_finite() {
-                return Err(Error::NonFinite {
-                    what: "residual",
-                    step,
-                    t: t0,
-                });
-            }
-            if w.lu.is_none() {
-                let jm = self.ga_jacobian(t, &q, &v, &qdd, &lam, bp, gp);
-                w.lu = Some((jm.lu(), h));
-                jacs += 1;
-            }
-            let (lu, _) = w.lu.as_ref().expect("iteration matrix present");
-            let dx = lu.solve(&(-&r)).ok_or(Error::Singular {
-                what: "generalized-α iteration matrix",
-                t,
-            })?;
-            if !dx.iter().all(|x| x.is_finite()) {
-                w.lu = None;
-                return Err(Error::Singular {
-                    what: "generalized-α iteration matrix",
-                    t,
-                });
-            }
-            let dq = dx.rows(0, n);
-            q += &dq;
-            v += &dq * gp;
-            qdd += &dq * bp;
-            lam += dx.rows(n, dx.len() - n);
-            let err = dq
-                .iter()
-                .zip(q.iter())
-                .map(|(d, x)| d.abs() / (g.atol + g.rtol * x.abs()))
-                .fold(0.0, f64::max);
-            if err <= 1.0 {
-                // Converged: algorithmic acceleration update.
-                *acc = (&qdd * (1.0 - af) + &s.a * af - &*acc * am) / (1.0 - am);
-                s.t = t;
-                s.q = q;
-                s.v = v;
-                s.a = qdd;
-                s.lambda = lam * bp;
-                check_finite(&s.q, "coordinates", step, t0)?;
-                return Ok((it, jacs));
-            }
-            // Slow contraction: refresh the iteration matrix at the current iterate
-            // (modified Newton becomes full Newton on hard steps).
-            let dn = dq.amax();
-            if dn > 0.25 * prev || it >= 4 {
-                w.lu = None;
-            }
-            prev = dn;
-        }
-        w.lu = None;
-        Err(Error::NoConvergence {
+        asm.apply_prescribed(ts, &mut w.q, &mut w.v, &mut w.a);
+        accelerations(asm, &mut w.lin, ts, &w.q, &w.v, &mut w.a, &mut w.lam, g)?;
+        w.k[2 * i].copy_from_slice(&w.v);
+        w.k[2 * i + 1].copy_from_slice(&w.a);
+    }
+    for j in 0..n {
+        s.q[j] += h / 6.0 * (w.k[0][j] + 2.0 * w.k[2][j] + 2.0 * w.k[4][j] + w.k[6][j]);
+        s.v[j] += h / 6.0 * (w.k[1][j] + 2.0 * w.k[3][j] + 2.0 * w.k[5][j] + w.k[7][j]);
+    }
+    s.t = t + h;
+    asm.apply_prescribed(s.t, &mut s.q, &mut s.v, &mut s.a);
+    if !all_finite(&s.q) || !all_finite(&s.v) {
+        return Err(Error::NonFinite {
+            what: "coordinates",
             step,
-            t: t0,
-            residual: res_norm,
-            iterations: g.max_iter,
-            dt: h,
-        })
+            t,
+        });
     }
+    accelerations(asm, &mut w.lin, s.t, &s.q, &s.v, &mut s.a, &mut s.lambda, g)
 }
 
-#[cfg(test)]
-pub(crate) fn jacobian_check(sys: &System, s: &State, h: f64) -> f64 {
-    let (am, af, gamma, beta) = GeneralizedAlpha::default().coefficients();
+fn ga_step<B: Body>(
+    asm: &mut Assembly<B>,
+    g: &GeneralizedAlpha,
+    s: &mut State,
+    w: &mut Work,
+    h: f64,
+    step: usize,
+) -> Result<(usize, usize)> {
+    let (n, m) = (asm.n, asm.m);
+    let (am, af, gamma, beta) = g.coefficients();
     let bp = (1.0 - am) / ((1.0 - af) * beta * h * h);
     let gp = gamma / (beta * h);
-    let lam = &s.lambda / bp;
-    let j = sys.ga_jacobian(s.t, &s.q, &s.v, &s.a, &lam, bp, gp);
-    let n = sys.n_coords();
-    let mut worst: f64 = 0.0;
-    for k in 0..n {
-        let e = 1e-6 * (1.0 + s.q[k].abs());
-        let mut qp = s.q.clone();
-        let mut vp = s.v.clone();
-        let mut ap = s.a.clone();
-        qp[k] += e;
-        vp[k] += gp * e;
-        ap[k] += bp * e;
-        let r1 = sys.ga_residual(s.t, &qp, &vp, &ap, &lam, bp);
-        qp[k] -= 2.0 * e;
-        vp[k] -= 2.0 * gp * e;
-        ap[k] -= 2.0 * bp * e;
-        let r0 = sys.ga_residual(s.t, &qp, &vp, &ap, &lam, bp);
-        let col = (r1 - r0) / (2.0 * e);
-        let err = (&col - j.column(k)).amax() / (1.0 + j.column(k).amax());
-        if err > 1e-4 {
-            eprintln!(
-                "col {k}: err {err:e} fd {:?} jac {:?}",
-                col.as_slice(),
-                j.column(k).as_slice()
-            );
-        }
-        worst = worst.max(err);
+    let t0 = s.t;
+    let t1 = t0 + h;
+    // Predictor (prescribed coordinates exact).
+    for c in 0..n {
+        let a_new = (af * s.a[c] - am * w.acc[c]) / (1.0 - am);
+        w.v[c] = s.v[c] + h * (1.0 - gamma) * w.acc[c] + h * gamma * a_new;
+        w.q[c] = s.q[c] + h * s.v[c] + h * h * (0.5 - beta) * w.acc[c] + h * h * beta * a_new;
+        w.a[c] = 0.0;
     }
-    worst
+    asm.apply_prescribed(t1, &mut w.q, &mut w.v, &mut w.a);
+    for k in 0..m {
+        w.lam[k] = s.lambda[k] / bp;
+    }
+    if w.have_jac && (w.jac_h - h).abs() > 1e-12 * h {
+        w.have_jac = false;
+    }
+    let mut jacs = 0;
+    let mut prev = f64::INFINITY;
+    let mut fresh = false;
+    let mut res_norm = f64::NAN;
+    for it in 1..=g.max_iter {
+        if !w.have_jac {
+            asm.jacobian(t1, &w.q, &w.v, &w.a, &w.lam, bp, gp, &mut w.lin.r);
+            asm.factor(t1, "generalized-α iteration matrix")?;
+            jacs += 1;
+            w.have_jac = true;
+            w.jac_h = h;
+            fresh = true;
+        } else {
+            // Physical multipliers in the residual.
+            for k in 0..m {
+                w.lam_phys[k] = w.lam[k] * bp;
+            }
+            asm.residual(t1, &w.q, &w.v, &w.a, &w.lam_phys, &mut w.lin.r);
+        }
+        let lin = &mut w.lin;
+        for c in 0..n {
+            lin.r[c] /= bp;
+        }
+        res_norm = lin.r.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !res_norm.is_finite() {
+            w.have_jac = false;
+            return Err(Error::NonFinite {
+                what: "residual",
+                step,
+                t: t0,
+            });
+        }
+        for k in 0..n + m {
+            lin.rhs[k] = -lin.r[k];
+        }
+        asm.solve(&lin.rhs, &mut lin.x);
+        if !all_finite(&lin.x) {
+            w.have_jac = false;
+            return Err(Error::Singular {
+                what: "generalized-α iteration matrix",
+                t: t1,
+                detail: "the Newton update is not finite".into(),
+            });
+        }
+        for c in 0..n {
+            if !asm.is_prescribed(c) {
+                let d = w.lin.x[c];
+                w.q[c] += d;
+                w.v[c] += gp * d;
+                w.a[c] += bp * d;
+            }
+        }
+        for k in 0..m {
+            w.lam[k] += w.lin.x[n + k];
+        }
+        // Scales per class: largest |q̈| (coordinates) and |λ| (multipliers).
+        w.class_max.iter_mut().for_each(|x| *x = 0.0);
+        for c in 0..n {
+            if !asm.is_prescribed(c) {
+                let k = w.coord_class[c] as usize;
+                w.class_max[k] = w.class_max[k].max(w.a[c].abs());
+            }
+        }
+        for k in 0..m {
+            let cl = w.mult_class[k] as usize;
+            w.class_max[cl] = w.class_max[cl].max((w.lam[k] * bp).abs());
+        }
+        let all_max = w.class_max.iter().fold(0.0f64, |s, x| s.max(*x));
+        let mut err = 0.0f64;
+        for c in 0..n {
+            if asm.is_prescribed(c) {
+                continue;
+            }
+            let sc = g.rtol
+                * (w.a[c].abs() + w.class_max[w.coord_class[c] as usize] + 1e-6 * all_max)
+                + f64::MIN_POSITIVE;
+            err = err.max((bp * w.lin.x[c]).abs() / sc);
+        }
+        for k in 0..m {
+            let sc = g.rtol
+                * ((w.lam[k] * bp).abs() + w.class_max[w.mult_class[k] as usize] + 1e-6 * all_max)
+                + f64::MIN_POSITIVE;
+            err = err.max((bp * w.lin.x[n + k]).abs() / sc);
+        }
+        if err <= 1.0 {
+            for c in 0..n {
+                w.acc[c] = (w.a[c] * (1.0 - af) + s.a[c] * af - w.acc[c] * am) / (1.0 - am);
+            }
+            s.t = t1;
+            s.q.copy_from_slice(&w.q);
+            s.v.copy_from_slice(&w.v);
+            s.a.copy_from_slice(&w.a);
+            for k in 0..m {
+                s.lambda[k] = w.lam[k] * bp;
+            }
+            return Ok((it, jacs));
+        }
+        // Slow contraction on an old matrix: refresh it (modified Newton
+        // becomes full Newton on hard steps).
+        if !fresh && (err > 0.25 * prev || it >= 3) {
+            w.have_jac = false;
+        } else if fresh && it >= 6 && err > 0.5 * prev {
+            w.have_jac = false;
+        }
+        fresh = false;
+        prev = err;
+    }
+    w.have_jac = false;
+    Err(Error::NoConvergence {
+        step,
+        t: t0,
+        residual: res_norm,
+        iterations: g.max_iter,
+        dt: h,
+    })
 }

@@ -1,180 +1,242 @@
-//! Markers: points (with axes) attached to a body, possibly at an elastic node,
-//! or fixed to the ground. Joints and force elements act between markers.
+//! Markers: points (with axes) attached to a body or to the ground, and
+//! their kinematics with first and second derivatives.
 //!
-//! A body point moves as `r_P = R + A (ū₀_P + S_P q_f)` with
-//! `∂r_P/∂q = [I, −A ũ_P Ḡ, A S_P]`. Marker axes `c̄_i` turn with the node's
-//! small rotation `ψ = Ψ_P q_f`: `a_i = A (c̄_i + ψ × c̄_i)`,
-//! `∂a_i/∂q = [0, −A ã̄_i Ḡ, −A c̃̄_i Ψ_P]`.
+//! A marker on body `b` sits at `ū = ū₀ + Σ_j s_j q_f[dof_j]` (body axes)
+//! with axes `c̃_k = c_k + ψ × c_k`, `ψ = Σ_j ψ_j q_f[dof_j]` (the small
+//! rotation of the attached section), so in global axes
+//!
+//! `p = R + A(θ) ū`, `a_k = A(θ) c̃_k`.
+//!
+//! Its *local coordinates* are the body's frame coordinates `R` (d), `θ`
+//! (n_θ) and the marker's elastic coordinates; the first and second
+//! derivatives with respect to them are exact (`∂A/∂θ`, `∂²A/∂θ²`).
 
-use crate::model::BodyModel;
-use crate::rotation::skew;
-use nalgebra::{DVector, Matrix3, Matrix3xX, Vector3};
+use crate::body::PointShape;
+use crate::rotation::Rotation;
+use nalgebra::{Matrix3, Vector3};
 
-/// Index of a body in a [`System`](crate::System).
+/// A body index in a system.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct BodyId(pub usize);
 
-/// A point with axes on a body (or on the ground when `body` is `None`).
+/// A point with axes, on a body or on the ground.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Marker {
-    /// The body, or `None` for the ground (then `u0` and `axes` are global).
+    /// The body, or `None` for the ground.
     pub body: Option<BodyId>,
-    /// Undeformed position `ū₀_P` in body axes.
-    pub u0: Vector3<f64>,
-    /// Shape at the point `S_P` (3 × n_f), `None` for a rigid attachment.
-    pub shape: Option<Matrix3xX<f64>>,
-    /// Small-rotation shape `Ψ_P` (3 × n_f, rotation `ψ = Ψ_P q_f`), `None` if the axes do not turn with the node.
-    pub rotation_shape: Option<Matrix3xX<f64>>,
-    /// Marker axes as columns, in body axes (identity by default).
+    /// Where: undeformed position and the elastic coordinates moving it.
+    pub shape: PointShape,
+    /// Marker axes in body (or global) axes, columns `x, y, z`.
     pub axes: Matrix3<f64>,
 }
 
 impl Marker {
-    /// A fixed ground point (global position).
-    pub fn ground(position: Vector3<f64>) -> Self {
+    /// A fixed point of the ground (global axes).
+    pub fn ground(p: Vector3<f64>) -> Self {
         Self {
             body: None,
-            u0: position,
-            shape: None,
-            rotation_shape: None,
+            shape: PointShape {
+                u0: [p.x, p.y, p.z],
+                entries: Vec::new(),
+            },
             axes: Matrix3::identity(),
         }
     }
-    /// A rigidly attached point `u0` (body axes) of `body`.
-    pub fn at(body: BodyId, u0: Vector3<f64>) -> Self {
+
+    /// The origin of body `b`'s frame (a rigid point; body axes).
+    pub fn origin(b: BodyId) -> Self {
+        Self::at(b, Vector3::zeros())
+    }
+
+    /// A point fixed in body `b`'s frame at `u0` (not moved by elastic
+    /// coordinates), with the body's axes.
+    pub fn at(b: BodyId, u0: Vector3<f64>) -> Self {
         Self {
-            body: Some(body),
-            u0,
-            shape: None,
-            rotation_shape: None,
+            body: Some(b),
+            shape: PointShape {
+                u0: [u0.x, u0.y, u0.z],
+                entries: Vec::new(),
+            },
             axes: Matrix3::identity(),
         }
     }
-    /// The body-frame origin of `body`.
-    pub fn origin(body: BodyId) -> Self {
-        Self::at(body, Vector3::zeros())
+
+    /// A point of body `b` with the given shape (e.g. from
+    /// [`crate::Body::point_shape`]), with the body's axes.
+    pub fn point(b: BodyId, shape: PointShape) -> Self {
+        Self {
+            body: Some(b),
+            shape,
+            axes: Matrix3::identity(),
+        }
     }
-    /// The point follows the elastic deformation: `ū = ū₀ + S_P q_f`.
-    pub fn with_shape(mut self, s_p: Matrix3xX<f64>) -> Self {
-        self.shape = Some(s_p);
-        self
-    }
-    /// The axes follow the node's small rotation `ψ = Ψ_P q_f`.
-    pub fn with_rotation_shape(mut self, psi_p: Matrix3xX<f64>) -> Self {
-        self.rotation_shape = Some(psi_p);
-        self
-    }
-    /// Marker axes (columns, body axes; global for a ground marker).
+
+    /// The same marker with other axes (columns: the marker's x, y, z in
+    /// body axes, or in global axes for a ground marker).
     pub fn with_axes(mut self, axes: Matrix3<f64>) -> Self {
         self.axes = axes;
         self
     }
-    /// Marker at node `node` of a beam body whose elastic coordinates carry
-    /// labels `kind_node` (kinds `ux, uy, uz` for `S_P`, `rx, ry, rz` for `Ψ_P`);
-    /// coordinates a node lacks (removed by the reference conditions) are zero.
-    pub fn node(body: BodyId, u0: Vector3<f64>, labels: &[String], node: usize) -> Self {
-        let (s, psi) = node_shapes(labels, node);
-        Self::at(body, u0).with_shape(s).with_rotation_shape(psi)
-    }
 }
 
-/// `S_P` and `Ψ_P` of beam node `node` from elastic-coordinate labels.
-pub fn node_shapes(labels: &[String], node: usize) -> (Matrix3xX<f64>, Matrix3xX<f64>) {
-    let nf = labels.len();
-    let mut s = Matrix3xX::zeros(nf);
-    let mut psi = Matrix3xX::zeros(nf);
-    for (j, lab) in labels.iter().enumerate() {
-        let Some((kind, idx)) = lab.split_once('_') else {
-            continue;
-        };
-        if idx.parse::<usize>().ok() != Some(node) {
-            continue;
-        }
-        match kind {
-            "ux" => s[(0, j)] = 1.0,
-            "uy" => s[(1, j)] = 1.0,
-            "uz" => s[(2, j)] = 1.0,
-            "rx" => psi[(0, j)] = 1.0,
-            "ry" => psi[(1, j)] = 1.0,
-            "rz" => psi[(2, j)] = 1.0,
-            _ => {}
-        }
-    }
-    (s, psi)
-}
+/// The most local coordinates a marker can have (frame 3 + 4, point dofs).
+pub const MAX_POINT_DOFS: usize = 48;
 
-/// Index of the elastic coordinate labelled `label`, if any.
-pub fn dof_index(labels: &[String], label: &str) -> Option<usize> {
-    labels.iter().position(|l| l == label)
-}
-
-/// A marker evaluated at a configuration: global position and axes and their
-/// Jacobians with respect to the body's coordinates (3 × n_b; empty for ground).
+/// A marker evaluated at a configuration.
 #[derive(Clone, Debug)]
-pub(crate) struct MarkerState {
+pub struct MarkerKin {
+    /// Global coordinate index of each local coordinate.
+    pub idx: Vec<usize>,
+    /// Number of frame coordinates among them (`d + n_θ`, 0 for ground).
+    pub n_frame: usize,
+    /// Frame translation coordinates `d`.
+    pub d: usize,
+    /// `p`.
     pub pos: Vector3<f64>,
-    pub pos_jac: Matrix3xX<f64>,
+    /// `∂p/∂q_local` (columns).
+    pub dpos: Vec<Vector3<f64>>,
+    /// `a_k`.
     pub axes: [Vector3<f64>; 3],
-    pub axes_jac: [Matrix3xX<f64>; 3],
+    /// `∂a_k/∂q_local`.
+    pub daxes: [Vec<Vector3<f64>>; 3],
+    rot: Option<Rotation>,
+    u: Vector3<f64>,
+    c_tilde: [Vector3<f64>; 3],
+    s: Vec<Vector3<f64>>,
+    psi_c: [Vec<Vector3<f64>>; 3],
 }
 
-impl Marker {
-    /// Evaluate at body coordinates `q` of `model` (ignored for ground markers).
-    pub(crate) fn state(&self, model: Option<&BodyModel>, q: &[f64]) -> MarkerState {
-        let Some(model) = model else {
-            return MarkerState {
-                pos: self.u0,
-                pos_jac: Matrix3xX::zeros(0),
-                axes: [
-                    self.axes.column(0).into(),
-                    self.axes.column(1).into(),
-                    self.axes.column(2).into(),
-                ],
-                axes_jac: std::array::from_fn(|_| Matrix3xX::zeros(0)),
-            };
-        };
-        let (d, nth, nf) = (model.dim(), model.n_theta(), model.nf());
-        let fo = model.f_offset();
-        let fr = model.frame(q);
-        let qf = DVector::from_column_slice(&q[fo..]);
-        let mut u = self.u0;
-        if let Some(s) = &self.shape {
-            u += s * &qf;
-        }
-        let n = model.n_coords();
-        let mut pos_jac = Matrix3xX::zeros(n);
-        for i in 0..d {
-            pos_jac[(i, i)] = 1.0;
-        }
-        pos_jac
-            .columns_mut(d, nth)
-            .copy_from(&(-(fr.a * skew(&u) * &fr.g)));
-        if let Some(s) = &self.shape {
-            pos_jac.columns_mut(fo, nf).copy_from(&(fr.a * s));
-        }
-        let psi = self
-            .rotation_shape
-            .as_ref()
-            .map(|p| p * &qf)
-            .unwrap_or_else(Vector3::zeros);
-        let mut axes = [Vector3::zeros(); 3];
-        let axes_jac = std::array::from_fn(|i| {
-            let c: Vector3<f64> = self.axes.column(i).into();
-            let cb = c + psi.cross(&c);
-            axes[i] = fr.a * cb;
-            let mut j = Matrix3xX::zeros(n);
-            j.columns_mut(d, nth)
-                .copy_from(&(-(fr.a * skew(&cb) * &fr.g)));
-            if let Some(p) = &self.rotation_shape {
-                j.columns_mut(fo, nf).copy_from(&(-(fr.a * skew(&c) * p)));
+impl MarkerKin {
+    /// Workspace for `marker` on a body whose coordinates start at global
+    /// index `offset` with `d` translations and `n_theta` rotations (`f_offset
+    /// = d + n_theta`); allocates once.
+    pub fn new(marker: &Marker, offset: usize, d: usize, n_theta: usize) -> Self {
+        let mut idx = Vec::new();
+        let n_frame = if marker.body.is_some() {
+            idx.extend(offset..offset + d + n_theta);
+            for (dof, _, _) in &marker.shape.entries {
+                idx.push(offset + d + n_theta + dof);
             }
-            j
-        });
-        MarkerState {
-            pos: fr.r + fr.a * u,
-            pos_jac,
-            axes,
-            axes_jac,
+            d + n_theta
+        } else {
+            0
+        };
+        let n = idx.len();
+        let z = Vector3::zeros();
+        let m = marker.shape.entries.len();
+        Self {
+            idx,
+            n_frame,
+            d,
+            pos: z,
+            dpos: vec![z; n],
+            axes: [z; 3],
+            daxes: [vec![z; n], vec![z; n], vec![z; n]],
+            rot: None,
+            u: z,
+            c_tilde: [z; 3],
+            s: vec![z; m],
+            psi_c: [vec![z; m], vec![z; m], vec![z; m]],
+        }
+    }
+
+    /// Number of local coordinates.
+    pub fn len(&self) -> usize {
+        self.idx.len()
+    }
+
+    /// Whether the marker has no coordinates (ground).
+    pub fn is_empty(&self) -> bool {
+        self.idx.is_empty()
+    }
+
+    /// Evaluate at the global coordinates `q`.
+    pub fn eval(&mut self, marker: &Marker, q: &[f64]) {
+        let u0 = Vector3::from(marker.shape.u0);
+        if marker.body.is_none() {
+            self.pos = u0;
+            for k in 0..3 {
+                self.axes[k] = marker.axes.column(k).into();
+            }
+            return;
+        }
+        let o = self.idx[0];
+        let (d, nth) = (self.d, self.n_frame - self.d);
+        let rot = Rotation::new(&q[o + d..o + d + nth]);
+        let mut u = u0;
+        let mut psi = Vector3::zeros();
+        for (j, (_, s, p)) in marker.shape.entries.iter().enumerate() {
+            let qj = q[self.idx[self.n_frame + j]];
+            let s = Vector3::from(*s);
+            let p = Vector3::from(*p);
+            u += s * qj;
+            psi += p * qj;
+            self.s[j] = s;
+        }
+        let mut r = Vector3::zeros();
+        for k in 0..d {
+            r[k] = q[o + k];
+        }
+        self.pos = r + rot.a * u;
+        for k in 0..d {
+            let mut e = Vector3::zeros();
+            e[k] = 1.0;
+            self.dpos[k] = e;
+        }
+        for i in 0..nth {
+            self.dpos[d + i] = rot.da[i] * u;
+        }
+        for (j, s) in self.s.iter().enumerate() {
+            self.dpos[self.n_frame + j] = rot.a * s;
+        }
+        for k in 0..3 {
+            let c: Vector3<f64> = marker.axes.column(k).into();
+            let ct = c + psi.cross(&c);
+            self.c_tilde[k] = ct;
+            self.axes[k] = rot.a * ct;
+            for i in 0..d {
+                self.daxes[k][i] = Vector3::zeros();
+            }
+            for i in 0..nth {
+                self.daxes[k][d + i] = rot.da[i] * ct;
+            }
+            for (j, (_, _, p)) in marker.shape.entries.iter().enumerate() {
+                let pc = Vector3::from(*p).cross(&c);
+                self.psi_c[k][j] = pc;
+                self.daxes[k][self.n_frame + j] = rot.a * pc;
+            }
+        }
+        self.u = u;
+        self.rot = Some(rot);
+    }
+
+    /// `∂²p/∂q_i∂q_j` (local indices).
+    pub fn d2pos(&self, i: usize, j: usize) -> Vector3<f64> {
+        let Some(rot) = &self.rot else {
+            return Vector3::zeros();
+        };
+        let (d, nf) = (self.d, self.n_frame);
+        let th = |k: usize| k >= d && k < nf;
+        match (th(i), th(j)) {
+            (true, true) => rot.d2a(i - d, j - d) * self.u,
+            (true, false) if j >= nf => rot.da[i - d] * self.s[j - nf],
+            (false, true) if i >= nf => rot.da[j - d] * self.s[i - nf],
+            _ => Vector3::zeros(),
+        }
+    }
+
+    /// `∂²a_k/∂q_i∂q_j` (local indices).
+    pub fn d2axis(&self, k: usize, i: usize, j: usize) -> Vector3<f64> {
+        let Some(rot) = &self.rot else {
+            return Vector3::zeros();
+        };
+        let (d, nf) = (self.d, self.n_frame);
+        let th = |m: usize| m >= d && m < nf;
+        match (th(i), th(j)) {
+            (true, true) => rot.d2a(i - d, j - d) * self.c_tilde[k],
+            (true, false) if j >= nf => rot.da[i - d] * self.psi_c[k][j - nf],
+            (false, true) if i >= nf => rot.da[j - d] * self.psi_c[k][i - nf],
+            _ => Vector3::zeros(),
         }
     }
 }

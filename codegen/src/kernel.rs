@@ -1,0 +1,109 @@
+//! From a [`KernelModel`] to the straight-line programs of its element
+//! kernels, sharing one coefficient array.
+
+use crate::eom::{KernelModel, KernelPolys, Outputs};
+use crate::error::Error;
+use crate::poly::Param;
+use crate::program::{Coefficients, Program, ProgramBuilder};
+
+/// Every program of one kernel set.
+#[derive(Clone, Debug)]
+pub struct KernelSet {
+    /// The exact polynomials the programs were built from.
+    pub polys: KernelPolys,
+    /// The coefficients all kernels read.
+    pub coefficients: Coefficients,
+    /// Parameters (and `l`) → coefficients.
+    pub coefficient_program: Program,
+    /// `mass(q)`.
+    pub mass: Program,
+    /// `residual(…)` with reference rows (free frame only).
+    pub residual: Option<Program>,
+    /// `tangent(…)` (free frame only).
+    pub tangent: Option<Program>,
+    /// `residual_elastic(…)`.
+    pub residual_elastic: Program,
+    /// `tangent_elastic(…)`.
+    pub tangent_elastic: Program,
+    /// `energy(q)`.
+    pub energy: Program,
+    /// `element_invariants(x₀)`.
+    pub element_invariants: Program,
+    /// `point_shape(ξ)`.
+    pub point_shape: Program,
+}
+
+impl KernelSet {
+    /// The model.
+    pub fn model(&self) -> &KernelModel {
+        &self.polys.model
+    }
+
+    /// Element coordinates.
+    pub fn n(&self) -> usize {
+        self.polys.n
+    }
+
+    /// The kernels by name, in emission order.
+    pub fn programs(&self) -> Vec<(&'static str, &Program)> {
+        let mut v = vec![("mass", &self.mass)];
+        if let (Some(r), Some(t)) = (&self.residual, &self.tangent) {
+            v.push(("residual", r));
+            v.push(("tangent", t));
+        }
+        v.extend([
+            ("residual_elastic", &self.residual_elastic),
+            ("tangent_elastic", &self.tangent_elastic),
+            ("energy", &self.energy),
+            ("element_invariants", &self.element_invariants),
+            ("point_shape", &self.point_shape),
+        ]);
+        v
+    }
+
+    /// Parameters the coefficients read, in field order (`l` excluded: it is
+    /// derived from `length`).
+    pub fn params_used(&self) -> Vec<Param> {
+        let mut v: Vec<Param> = self
+            .coefficient_program
+            .params()
+            .into_iter()
+            .filter(|p| *p != Param::ElemLength)
+            .collect();
+        v.push(Param::Length);
+        v.sort();
+        v.dedup();
+        v
+    }
+}
+
+/// Generate every kernel program of `model`.
+pub fn generate_kernels(model: &KernelModel) -> Result<KernelSet, Error> {
+    let polys = model.polys()?;
+    let mut coefficients = Coefficients::default();
+    let mut build = |outputs: &Outputs| {
+        ProgramBuilder::new(Some(&mut coefficients)).build(&polys.dag, outputs)
+    };
+    let mass = build(&polys.mass);
+    let residual = polys.residual.as_ref().map(&mut build);
+    let tangent = polys.tangent.as_ref().map(&mut build);
+    let residual_elastic = build(&polys.residual_elastic);
+    let tangent_elastic = build(&polys.tangent_elastic);
+    let energy = build(&polys.energy);
+    let element_invariants = build(&polys.element_invariants);
+    let point_shape = build(&polys.point_shape);
+    let coefficient_program = coefficients.program();
+    Ok(KernelSet {
+        polys,
+        coefficients,
+        coefficient_program,
+        mass,
+        residual,
+        tangent,
+        residual_elastic,
+        tangent_elastic,
+        energy,
+        element_invariants,
+        point_shape,
+    })
+}

@@ -1,0 +1,180 @@
+//! Element kernels: what generated code (or a tape of the same programs)
+//! provides for one element of a flexible body, in body axes.
+//!
+//! With the element's coordinates `q` (`n_e` of them), its offset `x₀` along
+//! body x and the frame motion `frame = [ā, α, ω]` (`ā = Aᵀ(R̈ − g)`,
+//! `α = ω̄̇`, `ω = ω̄`, body axes), an element contributes the generalized
+//! inertia and elastic forces (theory: `docs/theory.md`, "Equations of motion
+//! in body axes")
+//!
+//! - `f_r = m ā − S̃_t α + S̄ q̈ + ω̃² S_t + 2 ω̃ S̄ q̇`
+//! - `f_θ = S̃_t ā + Ī_θθ α + Ī_θf q̈ + ω̃ Ī_θθ ω + 2 (tr P ω − Pᵀ ω)`
+//! - `f_e = S̄ᵀ ā + Ī_θfᵀ α + m_ff q̈ + h_e(q, q̇, ω) + K q + ∂U_nl/∂q`
+//!
+//! and the derivatives a Newton iteration needs. All matrices are row-major
+//! slices; outputs not written by a kernel are structurally zero, so callers
+//! clear their buffers before a call.
+
+use ffr_spec::{ElementCoordinate, Formalism, Param, Params, Reference, Stiffening};
+
+/// What a set of element kernels was generated for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KernelInfo {
+    /// Shape name.
+    pub shape: &'static str,
+    /// Shape dimension: 2 (planar, x–y) or 3.
+    pub dim: usize,
+    /// Scene dimension the kernels were generated for: 2 (frame motion in
+    /// the x–y plane) or 3.
+    pub scene_dim: usize,
+    /// Element coordinates `n_e`.
+    pub n_local: usize,
+    /// The element's coordinates (node 0/1 and kind), in kernel order.
+    pub coordinates: &'static [ElementCoordinate],
+    /// Inertia formalism.
+    pub formalism: Formalism,
+    /// Stiffening model.
+    pub stiffening: Stiffening,
+    /// Whether the reference rows (`residual`, `tangent`) exist: without
+    /// them only a body whose frame motion is prescribed can use the kernels.
+    pub free_frame: bool,
+    /// Length of the coefficient array.
+    pub n_coefficients: usize,
+    /// Parameters the kernels read (besides the derived element length).
+    pub params_used: &'static [Param],
+}
+
+/// Inputs of a residual or tangent kernel.
+#[derive(Clone, Copy, Debug)]
+pub struct KernelInput<'a> {
+    /// Element offset `x₀` along body x.
+    pub x0: f64,
+    /// Element coordinates.
+    pub q: &'a [f64],
+    /// Their velocities.
+    pub qd: &'a [f64],
+    /// Their accelerations.
+    pub qdd: &'a [f64],
+    /// `[ā, α, ω]` in body axes.
+    pub frame: &'a [f64; 9],
+}
+
+/// Outputs of `residual`.
+#[derive(Debug)]
+pub struct ResidualOut<'a> {
+    /// `f_r` (3).
+    pub f_r: &'a mut [f64; 3],
+    /// `f_θ` (3).
+    pub f_th: &'a mut [f64; 3],
+    /// `f_e` (`n_e`).
+    pub f_e: &'a mut [f64],
+}
+
+/// Outputs of `tangent` (with `β'`, `γ'` the generalized-α factors
+/// `∂q̈/∂q`, `∂q̇/∂q`).
+#[derive(Debug)]
+pub struct TangentOut<'a> {
+    /// `f_r` (3).
+    pub f_r: &'a mut [f64; 3],
+    /// `f_θ` (3).
+    pub f_th: &'a mut [f64; 3],
+    /// `f_e` (`n_e`).
+    pub f_e: &'a mut [f64],
+    /// `β' ∂f_e/∂q̈ + γ' ∂f_e/∂q̇ + ∂f_e/∂q` (`n_e × n_e`).
+    pub k_ee: &'a mut [f64],
+    /// `∂f_e/∂[ā, α, ω]` (`n_e × 9`).
+    pub d_e_frame: &'a mut [f64],
+    /// `β' ∂f/∂q̈ + γ' ∂f/∂q̇ + ∂f/∂q` of `[f_r; f_θ]` (`6 × n_e`).
+    pub k_ref_e: &'a mut [f64],
+    /// `∂[f_r; f_θ]/∂[ā, α, ω]` (`6 × 9`).
+    pub d_ref_frame: &'a mut [f64],
+}
+
+/// Outputs of `mass`: `S_t` and the acceleration-linear blocks.
+#[derive(Debug)]
+pub struct MassOut<'a> {
+    /// `S_t = S_t0 + S̄ q` (3).
+    pub s_t: &'a mut [f64; 3],
+    /// `m_ff` (`n_e × n_e`).
+    pub m_ee: &'a mut [f64],
+    /// `∂f_e/∂[ā, α]` = `[S̄ᵀ, Ī_θfᵀ]` (`n_e × 6`).
+    pub m_e_frame: &'a mut [f64],
+    /// `∂[f_r; f_θ]/∂q̈` = `[S̄; Ī_θf]` (`6 × n_e`).
+    pub m_ref_e: &'a mut [f64],
+    /// `∂[f_r; f_θ]/∂[ā, α]` = `[m I, −S̃_t; S̃_t, Ī_θθ]` (`6 × 6`).
+    pub m_ref_frame: &'a mut [f64],
+}
+
+/// The element kernels of a flexible body (generated code, or tapes of the
+/// same programs). Object safe.
+pub trait ElementKernels: Send + Sync {
+    /// What the kernels were generated for.
+    fn info(&self) -> &KernelInfo;
+
+    /// The coefficients `c` (length `info().n_coefficients`) for parameter
+    /// values `params` and element length `l = L/N`.
+    fn coefficients(&self, params: &Params, l: f64, c: &mut [f64]);
+
+    /// `S_t` and the acceleration-linear blocks at `q`.
+    fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut MassOut);
+
+    /// `f_r`, `f_θ`, `f_e` (only with `info().free_frame`).
+    fn residual(&self, c: &[f64], x: &KernelInput, out: &mut ResidualOut) {
+        let _ = (c, x, out);
+        unreachable!("kernels of `{}` were generated without the reference rows (prescribed frame motion only)", self.info().shape)
+    }
+
+    /// The residual and its derivatives (only with `info().free_frame`).
+    fn tangent(&self, c: &[f64], x: &KernelInput, bp: f64, gp: f64, out: &mut TangentOut) {
+        let _ = (c, x, bp, gp, out);
+        unreachable!("kernels of `{}` were generated without the reference rows (prescribed frame motion only)", self.info().shape)
+    }
+
+    /// `f_e` only (frame motion prescribed).
+    fn residual_elastic(&self, c: &[f64], x: &KernelInput, f_e: &mut [f64]);
+
+    /// `f_e` and `β' ∂f_e/∂q̈ + γ' ∂f_e/∂q̇ + ∂f_e/∂q` (frame motion prescribed).
+    fn tangent_elastic(
+        &self,
+        c: &[f64],
+        x: &KernelInput,
+        bp: f64,
+        gp: f64,
+        f_e: &mut [f64],
+        k_ee: &mut [f64],
+    );
+
+    /// Elastic energy `½ qᵀ K q + U_nl(q)` of the element.
+    fn energy(&self, c: &[f64], q: &[f64]) -> f64;
+
+    /// The element's invariants at offset `x₀`, flat:
+    /// `[m, S_t0 (3), S̄ (3 n), S̄_kl (9 n², k, l, a, b), Ī_kl (9 n, k, l, a),
+    /// Θ_kl (9), m_ff (n²), K_ff (n²)]`.
+    fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64]);
+
+    /// `S(ξ)` (3 × n) and the section rotation `ψ(ξ) = ½ ∇ × u` (3 × n) on
+    /// the element's centre line.
+    fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64]);
+}
+
+/// A body generated with a fixed mesh (`#[flex_body]`, `Builder::body`):
+/// its kernels, element count and reference condition are known at compile
+/// time; the parameter values are the struct's fields.
+pub trait CompiledBody {
+    /// The element kernels.
+    type Kernels: ElementKernels + Default + 'static;
+    /// Number of elements.
+    const ELEMENTS: usize;
+    /// Reference condition.
+    const REFERENCE: Reference;
+    /// Number of elastic coordinates.
+    const NF: usize;
+    /// Shape dimension.
+    const DIM: usize;
+    /// A label per elastic coordinate (`kind_node`).
+    const DOFS: &'static [&'static str];
+    /// The parameter values (unused parameters are 0).
+    fn params(&self) -> Params;
+}
+
+pub use ffr_spec::invariant_layout;

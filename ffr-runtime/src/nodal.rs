@@ -1,0 +1,447 @@
+//! A flexible body assembled from element kernels: `N` equal elements of a
+//! shape (element count, reference condition and parameters chosen at run
+//! time), or a single "element" holding all coordinates (modal bodies).
+//!
+//! Every evaluation loops over the elements: gather the element's
+//! coordinates through its dof map (removed coordinates read as zero), call
+//! the kernel, scatter-add its outputs. Matrices built from element matrices
+//! are banded with the mesh's half-bandwidth.
+
+use crate::body::{
+    Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork, Invariants,
+    PointShape,
+};
+use crate::error::{Error, Result};
+use crate::kernel::{
+    invariant_layout, CompiledBody, ElementKernels, KernelInput, MassOut, ResidualOut, TangentOut,
+};
+use ffr_spec::{Mesh, Params, Reference};
+
+const REMOVED: usize = usize::MAX;
+
+/// A body made of element kernels `K`.
+#[derive(Clone, Debug)]
+pub struct KernelBody<K> {
+    kernels: K,
+    layout: BodyLayout,
+    params: Params,
+    coef: Vec<f64>,
+    elements: usize,
+    ne: usize,
+    /// `elements × n_e` body indices (`REMOVED` where a coordinate is removed).
+    maps: Vec<usize>,
+    x0: Vec<f64>,
+    elem_length: f64,
+}
+
+/// Offsets of the scratch regions of one element evaluation.
+struct Scratch {
+    ne: usize,
+}
+
+impl Scratch {
+    fn len(&self) -> usize {
+        let n = self.ne;
+        4 * n + n * n + 9 * n + 6 * n + 54 + 6
+    }
+}
+
+impl<K: ElementKernels> KernelBody<K> {
+    /// `elements` equal elements of the kernels' shape from `x = 0` to
+    /// `params.length`, with reference condition `reference`.
+    pub fn new(kernels: K, params: Params, elements: usize, reference: Reference) -> Result<Self> {
+        let info = *kernels.info();
+        params
+            .validate_only(info.params_used)
+            .map_err(|e| Error::InvalidInput(e.to_string()))?;
+        let mesh = Mesh::new(info.coordinates, info.dim, elements, reference)
+            .map_err(|e| Error::InvalidInput(e.to_string()))?;
+        let ne = info.n_local;
+        let maps: Vec<usize> = (0..elements)
+            .flat_map(|e| {
+                mesh.element_map(e)
+                    .map(|i| i.unwrap_or(REMOVED))
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let l = params.elem_length(elements);
+        let mut coef = vec![0.0; info.n_coefficients];
+        kernels.coefficients(&params, l, &mut coef);
+        if let Some(i) = coef.iter().position(|c| !c.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "the parameters give a non-finite coefficient (c[{i}] = {}) for `{}` with {elements} elements: check their magnitudes",
+                coef[i], info.shape
+            )));
+        }
+        let layout = BodyLayout {
+            dim: info.dim,
+            scene_dim: info.scene_dim,
+            nf: mesh.nf(),
+            half_bandwidth: mesh.half_bandwidth(),
+            free_frame: info.free_frame,
+            labels: mesh.dofs().iter().map(|d| d.to_string()).collect(),
+            length: Some(params.length),
+            description: format!(
+                "{} × `{}` ({} formalism, stiffening {}, {} reference, L = {} m)",
+                elements, info.shape, info.formalism, info.stiffening, reference, params.length
+            ),
+        };
+        Ok(Self {
+            kernels,
+            layout,
+            params,
+            coef,
+            elements,
+            ne,
+            maps,
+            x0: (0..elements).map(|e| e as f64 * l).collect(),
+            elem_length: l,
+        })
+    }
+
+    /// The body of a generated fixed-mesh type (`#[flex_body]`, `Builder::body`).
+    pub fn compiled<B: CompiledBody<Kernels = K>>(body: &B) -> Result<Self>
+    where
+        K: Default,
+    {
+        Self::new(K::default(), body.params(), B::ELEMENTS, B::REFERENCE)
+    }
+
+    /// The kernels.
+    pub fn kernels(&self) -> &K {
+        &self.kernels
+    }
+
+    /// The parameter values.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// The coefficient array the kernels read.
+    pub fn coefficients(&self) -> &[f64] {
+        &self.coef
+    }
+
+    /// Number of elements.
+    pub fn elements(&self) -> usize {
+        self.elements
+    }
+
+    fn map(&self, e: usize) -> &[usize] {
+        &self.maps[e * self.ne..(e + 1) * self.ne]
+    }
+}
+
+fn gather(local: &mut [f64], global: &[f64], map: &[usize]) {
+    for (l, &i) in local.iter_mut().zip(map) {
+        *l = if i == REMOVED { 0.0 } else { global[i] };
+    }
+}
+
+fn scatter(local: &[f64], global: &mut [f64], map: &[usize]) {
+    for (l, &i) in local.iter().zip(map) {
+        if i != REMOVED {
+            global[i] += l;
+        }
+    }
+}
+
+impl<K: ElementKernels> Body for KernelBody<K> {
+    fn layout(&self) -> &BodyLayout {
+        &self.layout
+    }
+
+    fn work(&self) -> BodyWork {
+        BodyWork {
+            buf: vec![0.0; Scratch { ne: self.ne }.len()],
+        }
+    }
+
+    fn forces(&self, s: &BodyState, frame_rows: bool, w: &mut BodyWork, out: &mut BodyForces) {
+        assert!(
+            !frame_rows || self.layout.free_frame,
+            "body `{}` has no reference rows (kernels for prescribed frame motion)",
+            self.layout.description
+        );
+        out.clear();
+        let ne = self.ne;
+        let (q, rest) = w.buf.split_at_mut(ne);
+        let (qd, rest) = rest.split_at_mut(ne);
+        let (qdd, rest) = rest.split_at_mut(ne);
+        let (fe, rest) = rest.split_at_mut(ne);
+        let (fr6, _) = rest.split_at_mut(6);
+        for e in 0..self.elements {
+            let map = self.map(e);
+            gather(q, s.q_f, map);
+            gather(qd, s.qd_f, map);
+            gather(qdd, s.qdd_f, map);
+            fe.iter_mut().for_each(|x| *x = 0.0);
+            let x = KernelInput {
+                x0: self.x0[e],
+                q,
+                qd,
+                qdd,
+                frame: &s.frame,
+            };
+            if frame_rows {
+                let (mut f_r, mut f_th) = ([0.0; 3], [0.0; 3]);
+                self.kernels.residual(
+                    &self.coef,
+                    &x,
+                    &mut ResidualOut {
+                        f_r: &mut f_r,
+                        f_th: &mut f_th,
+                        f_e: fe,
+                    },
+                );
+                for k in 0..3 {
+                    out.f_r[k] += f_r[k];
+                    out.f_th[k] += f_th[k];
+                }
+            } else {
+                self.kernels.residual_elastic(&self.coef, &x, fe);
+            }
+            scatter(fe, &mut out.f_f, map);
+        }
+        let _ = fr6;
+    }
+
+    fn tangent(
+        &self,
+        s: &BodyState,
+        bp: f64,
+        gp: f64,
+        frame_rows: bool,
+        w: &mut BodyWork,
+        out: &mut BodyForces,
+        t: &mut BodyTangent,
+    ) {
+        assert!(
+            !frame_rows || self.layout.free_frame,
+            "body `{}` has no reference rows (kernels for prescribed frame motion)",
+            self.layout.description
+        );
+        out.clear();
+        t.clear();
+        let (ne, nf) = (self.ne, self.layout.nf);
+        let (q, rest) = w.buf.split_at_mut(ne);
+        let (qd, rest) = rest.split_at_mut(ne);
+        let (qdd, rest) = rest.split_at_mut(ne);
+        let (fe, rest) = rest.split_at_mut(ne);
+        let (kee, rest) = rest.split_at_mut(ne * ne);
+        let (def, rest) = rest.split_at_mut(9 * ne);
+        let (kre, rest) = rest.split_at_mut(6 * ne);
+        let (drf, _) = rest.split_at_mut(54);
+        for e in 0..self.elements {
+            let map = self.map(e);
+            gather(q, s.q_f, map);
+            gather(qd, s.qd_f, map);
+            gather(qdd, s.qdd_f, map);
+            fe.iter_mut().for_each(|x| *x = 0.0);
+            kee.iter_mut().for_each(|x| *x = 0.0);
+            let x = KernelInput {
+                x0: self.x0[e],
+                q,
+                qd,
+                qdd,
+                frame: &s.frame,
+            };
+            if frame_rows {
+                def.iter_mut().for_each(|x| *x = 0.0);
+                kre.iter_mut().for_each(|x| *x = 0.0);
+                drf.iter_mut().for_each(|x| *x = 0.0);
+                let (mut f_r, mut f_th) = ([0.0; 3], [0.0; 3]);
+                self.kernels.tangent(
+                    &self.coef,
+                    &x,
+                    bp,
+                    gp,
+                    &mut TangentOut {
+                        f_r: &mut f_r,
+                        f_th: &mut f_th,
+                        f_e: fe,
+                        k_ee: kee,
+                        d_e_frame: def,
+                        k_ref_e: kre,
+                        d_ref_frame: drf,
+                    },
+                );
+                for k in 0..3 {
+                    out.f_r[k] += f_r[k];
+                    out.f_th[k] += f_th[k];
+                }
+                for (a, &ia) in map.iter().enumerate() {
+                    if ia == REMOVED {
+                        continue;
+                    }
+                    for k in 0..9 {
+                        t.d_f_frame[ia * 9 + k] += def[a * 9 + k];
+                    }
+                    for r in 0..6 {
+                        t.k_ref_f[r * nf + ia] += kre[r * ne + a];
+                    }
+                }
+                for (d, v) in t.d_ref_frame.iter_mut().zip(drf.iter()) {
+                    *d += v;
+                }
+            } else {
+                self.kernels
+                    .tangent_elastic(&self.coef, &x, bp, gp, fe, kee);
+            }
+            scatter(fe, &mut out.f_f, map);
+            for (a, &ia) in map.iter().enumerate() {
+                if ia == REMOVED {
+                    continue;
+                }
+                for (b, &ib) in map.iter().enumerate() {
+                    if ib != REMOVED {
+                        t.k_ff.add(ia, ib, kee[a * ne + b]);
+                    }
+                }
+            }
+        }
+    }
+
+    fn mass(&self, q_f: &[f64], w: &mut BodyWork, out: &mut BodyMass) {
+        out.clear();
+        let (ne, nf) = (self.ne, self.layout.nf);
+        let (q, rest) = w.buf.split_at_mut(ne);
+        let (_, rest) = rest.split_at_mut(3 * ne);
+        let (mee, rest) = rest.split_at_mut(ne * ne);
+        let (mef, rest) = rest.split_at_mut(9 * ne);
+        let (mre, rest) = rest.split_at_mut(6 * ne);
+        let (mrf, _) = rest.split_at_mut(54);
+        for e in 0..self.elements {
+            let map = self.map(e);
+            gather(q, q_f, map);
+            mee.iter_mut().for_each(|x| *x = 0.0);
+            mef.iter_mut().for_each(|x| *x = 0.0);
+            mre.iter_mut().for_each(|x| *x = 0.0);
+            mrf.iter_mut().for_each(|x| *x = 0.0);
+            let mut s_t = [0.0; 3];
+            self.kernels.mass(
+                &self.coef,
+                self.x0[e],
+                q,
+                &mut MassOut {
+                    s_t: &mut s_t,
+                    m_ee: mee,
+                    m_e_frame: &mut mef[..6 * ne],
+                    m_ref_e: mre,
+                    m_ref_frame: &mut mrf[..36],
+                },
+            );
+            for k in 0..3 {
+                out.s_t[k] += s_t[k];
+            }
+            for (d, v) in out.m_ref_frame.iter_mut().zip(mrf.iter()) {
+                *d += v;
+            }
+            for (a, &ia) in map.iter().enumerate() {
+                if ia == REMOVED {
+                    continue;
+                }
+                for k in 0..6 {
+                    out.m_f_frame[ia * 6 + k] += mef[a * 6 + k];
+                }
+                for r in 0..6 {
+                    out.m_ref_f[r * nf + ia] += mre[r * ne + a];
+                }
+                for (b, &ib) in map.iter().enumerate() {
+                    if ib != REMOVED {
+                        out.m_ff.add(ia, ib, mee[a * ne + b]);
+                    }
+                }
+            }
+        }
+    }
+
+    fn elastic_energy(&self, q_f: &[f64], w: &mut BodyWork) -> f64 {
+        let ne = self.ne;
+        let q = &mut w.buf[..ne];
+        let mut e = 0.0;
+        for el in 0..self.elements {
+            gather(q, q_f, self.map(el));
+            e += self.kernels.energy(&self.coef, q);
+        }
+        e
+    }
+
+    fn invariants(&self) -> Invariants {
+        let (ne, nf) = (self.ne, self.layout.nf);
+        let (off, len) = invariant_layout(ne);
+        let mut buf = vec![0.0; len];
+        let mut inv = Invariants::zeros(self.layout.dim, nf);
+        for e in 0..self.elements {
+            buf.iter_mut().for_each(|x| *x = 0.0);
+            self.kernels
+                .element_invariants(&self.coef, self.x0[e], &mut buf);
+            let map = self.map(e);
+            inv.mass += buf[off[0]];
+            for k in 0..3 {
+                inv.s_t0[k] += buf[off[1] + k];
+                for l in 0..3 {
+                    inv.theta[(k, l)] += buf[off[5] + k * 3 + l];
+                }
+            }
+            for (a, &ia) in map.iter().enumerate() {
+                if ia == REMOVED {
+                    continue;
+                }
+                for k in 0..3 {
+                    inv.s_bar[(k, ia)] += buf[off[2] + k * ne + a];
+                    for l in 0..3 {
+                        inv.i_kl[k][l][ia] += buf[off[4] + (k * 3 + l) * ne + a];
+                    }
+                }
+                for (b, &ib) in map.iter().enumerate() {
+                    if ib == REMOVED {
+                        continue;
+                    }
+                    for k in 0..3 {
+                        for l in 0..3 {
+                            inv.s_kl[k][l][(ia, ib)] +=
+                                buf[off[3] + ((k * 3 + l) * ne + a) * ne + b];
+                        }
+                    }
+                    inv.m_ff[(ia, ib)] += buf[off[6] + a * ne + b];
+                    inv.k_ff[(ia, ib)] += buf[off[7] + a * ne + b];
+                }
+            }
+        }
+        inv
+    }
+
+    fn point_shape(&self, x: f64) -> Result<PointShape> {
+        let length = self.params.length;
+        let tol = 1e-12 * length;
+        if !(x.is_finite() && x >= -tol && x <= length + tol) {
+            return Err(Error::InvalidInput(format!(
+                "x = {x} is not on the body's axis: it runs from x = 0 to x = {length} m"
+            )));
+        }
+        let x = x.clamp(0.0, length);
+        let l = self.elem_length;
+        let e = ((x / l).floor() as usize).min(self.elements - 1);
+        let xi = (x - self.x0[e]) / l;
+        let ne = self.ne;
+        let mut s = vec![0.0; 3 * ne];
+        let mut psi = vec![0.0; 3 * ne];
+        self.kernels.point_shape(&self.coef, xi, &mut s, &mut psi);
+        let mut entries = Vec::new();
+        for (a, &ia) in self.map(e).iter().enumerate() {
+            if ia == REMOVED {
+                continue;
+            }
+            let sa = [s[a], s[ne + a], s[2 * ne + a]];
+            let pa = [psi[a], psi[ne + a], psi[2 * ne + a]];
+            if sa.iter().chain(&pa).any(|v| *v != 0.0) {
+                entries.push((ia, sa, pa));
+            }
+        }
+        Ok(PointShape {
+            u0: [x, 0.0, 0.0],
+            entries,
+        })
+    }
+}

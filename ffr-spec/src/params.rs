@@ -1,0 +1,215 @@
+//! The parameters of a beam body (SI units), as generated code and the
+//! command line name them.
+
+use std::fmt;
+
+/// A body parameter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Param {
+    /// Element length `l = L / N` (derived; element kernels are written in it).
+    ElemLength,
+    /// Body length `L` (m).
+    Length,
+    /// Density `ρ` (kg/m³).
+    Rho,
+    /// Cross-section area `A` (m²).
+    Area,
+    /// `I_y = ∫z² dA` (m⁴).
+    Iy,
+    /// `I_z = ∫y² dA` (m⁴).
+    Iz,
+    /// Young's modulus `E` (Pa).
+    E,
+    /// Shear modulus `G` (Pa).
+    G,
+    /// Torsion constant `J` (m⁴).
+    J,
+}
+
+impl Param {
+    /// Every runtime field of a body, in declaration order (not the derived `l`).
+    pub const FIELDS: [Param; 8] = [
+        Param::Length,
+        Param::Rho,
+        Param::Area,
+        Param::Iy,
+        Param::Iz,
+        Param::E,
+        Param::G,
+        Param::J,
+    ];
+
+    /// The field name in generated code, scene files and on the command line.
+    pub fn field(self) -> &'static str {
+        match self {
+            Param::ElemLength => "l",
+            Param::Length => "length",
+            Param::Rho => "rho",
+            Param::Area => "area",
+            Param::Iy => "iy",
+            Param::Iz => "iz",
+            Param::E => "e",
+            Param::G => "g",
+            Param::J => "j",
+        }
+    }
+
+    /// Index into [`Param::FIELDS`] (`None` for the element length).
+    pub fn field_index(self) -> Option<usize> {
+        Param::FIELDS.iter().position(|&p| p == self)
+    }
+
+    /// A one-line description with the unit.
+    pub fn doc(self) -> &'static str {
+        match self {
+            Param::ElemLength => "Element length `l = L / N` (m)",
+            Param::Length => "Body length `L` (m)",
+            Param::Rho => "Density `ρ` (kg/m³)",
+            Param::Area => "Cross-section area `A` (m²)",
+            Param::Iy => "Second moment `I_y = ∫z² dA` (m⁴)",
+            Param::Iz => "Second moment `I_z = ∫y² dA` (m⁴)",
+            Param::E => "Young's modulus `E` (Pa)",
+            Param::G => "Shear modulus `G` (Pa)",
+            Param::J => "Torsion constant `J` (m⁴)",
+        }
+    }
+
+    /// Whether the parameter must be strictly positive (else only ≥ 0).
+    pub fn must_be_positive(self) -> bool {
+        matches!(
+            self,
+            Param::ElemLength | Param::Length | Param::Rho | Param::Area | Param::E
+        )
+    }
+}
+
+/// Values of a body's parameters (SI units).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    /// Body length `L` (m); elements have `l = L / N`.
+    pub length: f64,
+    /// Density `ρ` (kg/m³).
+    pub rho: f64,
+    /// Cross-section area `A` (m²).
+    pub area: f64,
+    /// Second moment `I_y = ∫z² dA` (m⁴).
+    pub iy: f64,
+    /// Second moment `I_z = ∫y² dA` (m⁴).
+    pub iz: f64,
+    /// Young's modulus `E` (Pa).
+    pub e: f64,
+    /// Shear modulus `G` (Pa).
+    pub g: f64,
+    /// Torsion constant `J` (m⁴).
+    pub j: f64,
+}
+
+/// A parameter value that is not physically valid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamError {
+    /// Which parameter.
+    pub param: Param,
+    /// Its value.
+    pub value: f64,
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let need = if self.param.must_be_positive() {
+            "a finite number > 0"
+        } else {
+            "a finite number ≥ 0"
+        };
+        write!(
+            f,
+            "parameter `{}` ({}) must be {need}, found {}",
+            self.param.field(),
+            self.param.doc(),
+            self.value
+        )
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+impl Params {
+    /// In [`Param::FIELDS`] order.
+    pub fn to_array(&self) -> [f64; 8] {
+        [
+            self.length,
+            self.rho,
+            self.area,
+            self.iy,
+            self.iz,
+            self.e,
+            self.g,
+            self.j,
+        ]
+    }
+
+    /// From values in [`Param::FIELDS`] order.
+    pub fn from_array(v: [f64; 8]) -> Self {
+        Self {
+            length: v[0],
+            rho: v[1],
+            area: v[2],
+            iy: v[3],
+            iz: v[4],
+            e: v[5],
+            g: v[6],
+            j: v[7],
+        }
+    }
+
+    /// The value of `p` (`l` is not a field: use [`Params::elem_length`]).
+    pub fn get(&self, p: Param) -> Option<f64> {
+        p.field_index().map(|i| self.to_array()[i])
+    }
+
+    /// `l = L / N`.
+    pub fn elem_length(&self, elements: usize) -> f64 {
+        self.length / elements as f64
+    }
+
+    /// Every value finite; `length, rho, area, e` strictly positive;
+    /// `iy, iz, g, j` not negative.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.validate_only(&Param::FIELDS)
+    }
+
+    /// [`Params::validate`] for the parameters in `used` only (a shape that
+    /// does not read a parameter accepts any value, 0 included).
+    pub fn validate_only(&self, used: &[Param]) -> Result<(), ParamError> {
+        for (p, v) in Param::FIELDS.iter().zip(self.to_array()) {
+            if !used.contains(p) {
+                continue;
+            }
+            let ok = v.is_finite() && if p.must_be_positive() { v > 0.0 } else { v >= 0.0 };
+            if !ok {
+                return Err(ParamError {
+                    param: *p,
+                    value: v,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn validation_names_the_parameter() {
+        let p = Params::from_array([1.0, 7850.0, 1e-4, 0.0, 8e-10, 2.1e11, 0.0, 0.0]);
+        assert!(p.validate().is_ok());
+        let bad = Params { area: -1e-4, ..p };
+        assert!(bad.validate().unwrap_err().to_string().starts_with("parameter `area`"));
+        let bad = Params { iz: -1.0, ..p };
+        assert!(bad.validate().unwrap_err().to_string().contains("≥ 0"));
+        let bad = Params { e: f64::NAN, ..p };
+        assert!(bad.validate().is_err());
+        assert_eq!(Params::from_array(p.to_array()), p);
+    }
+}
