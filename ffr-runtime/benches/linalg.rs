@@ -8,11 +8,13 @@
 //! timed alone with `Instant`, about 25 ns of overhead). Both should grow
 //! linearly in n (see the per-element throughput).
 //!
-//! `cargo bench -p ffr-runtime --bench linalg`
+//! `cargo bench -p ffr-runtime --bench linalg` (criterion), or
+//! `FFR_LINALG_MIN=300 cargo bench -p ffr-runtime --bench linalg` for the
+//! minimum and median time per call (robust on a loaded machine).
 
 use std::time::{Duration, Instant};
 
-use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use criterion::{black_box, criterion_group, BenchmarkId, Criterion, Throughput};
 use ffr_runtime::linalg::{BlockShape, BorderedSystem};
 
 const K: usize = 6;
@@ -61,49 +63,105 @@ fn system(n: usize, bw: usize, pivoting: bool) -> BorderedSystem {
     sys
 }
 
+const SIZES: [usize; 4] = [24, 96, 384, 1536];
+
+/// `(kind, bw, pivoting)` of the benchmarked cases.
+fn cases() -> impl Iterator<Item = (&'static str, usize, bool)> {
+    [false, true].into_iter().flat_map(|pivoting| {
+        let kind = if pivoting { "pivoting" } else { "dominant" };
+        [5, 11].into_iter().map(move |bw| (kind, bw, pivoting))
+    })
+}
+
+/// Time of one `factor` on a fresh copy of `sys` (the copy, from the
+/// assembled original so that the matrix is in cache as after assembly, is
+/// not timed).
+fn time_factor(sys: &BorderedSystem, work: &mut BorderedSystem) -> Duration {
+    work.clone_from(sys);
+    let t = Instant::now();
+    black_box(&mut *work).factor().unwrap();
+    t.elapsed()
+}
+
+/// Time of one `solve` of a fresh copy of `rhs` (the copy is not timed).
+fn time_solve(sys: &BorderedSystem, rhs: &[f64], xb: &mut [f64], xk: &mut [f64]) -> Duration {
+    let n = xb.len();
+    xb.copy_from_slice(&rhs[..n]);
+    xk.copy_from_slice(&rhs[n..]);
+    let t = Instant::now();
+    sys.solve(black_box(xb), black_box(xk));
+    t.elapsed()
+}
+
 fn bench(c: &mut Criterion) {
-    for pivoting in [false, true] {
-        for bw in [5, 11] {
-            let kind = if pivoting { "pivoting" } else { "dominant" };
-            let mut group = c.benchmark_group(format!("linalg/{kind}/bw{bw}"));
-            for n in [24, 96, 384, 1536] {
-                let sys = system(n, bw, pivoting);
-                group.throughput(Throughput::Elements(n as u64));
-                group.bench_with_input(BenchmarkId::new("factor", n), &sys, |b, sys| {
-                    // Only `factor` is timed; the copy before it (from the
-                    // assembled original, so the matrix is in cache as after
-                    // assembly) is not.
-                    let mut work = sys.clone();
-                    b.iter_custom(|iters| {
-                        let mut total = Duration::ZERO;
-                        for _ in 0..iters {
-                            work.clone_from(sys);
-                            let t = Instant::now();
-                            black_box(&mut work).factor().unwrap();
-                            total += t.elapsed();
-                        }
-                        total
-                    })
-                });
-                let mut factored = sys.clone();
-                factored.factor().unwrap();
-                let rhs: Vec<f64> = (0..n + K).map(|i| (i as f64).sin()).collect();
-                group.bench_with_input(BenchmarkId::new("solve", n), &factored, |b, sys| {
-                    let (mut xb, mut xk) = (vec![0.0; n], vec![0.0; K]);
-                    b.iter_custom(|iters| {
-                        let mut total = Duration::ZERO;
-                        for _ in 0..iters {
-                            xb.copy_from_slice(&rhs[..n]);
-                            xk.copy_from_slice(&rhs[n..]);
-                            let t = Instant::now();
-                            sys.solve(black_box(&mut xb), black_box(&mut xk));
-                            total += t.elapsed();
-                        }
-                        total
-                    })
-                });
+    for (kind, bw, pivoting) in cases() {
+        let mut group = c.benchmark_group(format!("linalg/{kind}/bw{bw}"));
+        for n in SIZES {
+            let sys = system(n, bw, pivoting);
+            group.throughput(Throughput::Elements(n as u64));
+            group.bench_with_input(BenchmarkId::new("factor", n), &sys, |b, sys| {
+                let mut work = sys.clone();
+                b.iter_custom(|iters| (0..iters).map(|_| time_factor(sys, &mut work)).sum())
+            });
+            let mut factored = sys.clone();
+            factored.factor().unwrap();
+            let rhs: Vec<f64> = (0..n + K).map(|i| (i as f64).sin()).collect();
+            group.bench_with_input(BenchmarkId::new("solve", n), &factored, |b, sys| {
+                let (mut xb, mut xk) = (vec![0.0; n], vec![0.0; K]);
+                b.iter_custom(|iters| {
+                    (0..iters)
+                        .map(|_| time_solve(sys, &rhs, &mut xb, &mut xk))
+                        .sum()
+                })
+            });
+        }
+        group.finish();
+    }
+}
+
+/// `FFR_LINALG_MIN=reps`: instead of criterion, time every call alone and
+/// print the minimum and median per call (`reps · 1536 / n` calls per size),
+/// the ratios of the minima between successive sizes and the time per band
+/// row. The per-call minimum is robust to a loaded machine, where
+/// criterion's per-sample means are not.
+fn per_call(reps: usize) {
+    let us = |d: Duration| d.as_secs_f64() * 1e6;
+    for (kind, bw, pivoting) in cases() {
+        let mut rows = [(Vec::new(), Vec::new()), (Vec::new(), Vec::new())];
+        for n in SIZES {
+            let sys = system(n, bw, pivoting);
+            let mut work = sys.clone();
+            let calls = reps * 1536 / n;
+            let mut tf: Vec<f64> = (0..calls)
+                .map(|_| us(time_factor(&sys, &mut work)))
+                .collect();
+            let rhs: Vec<f64> = (0..n + K).map(|i| (i as f64).sin()).collect();
+            let (mut xb, mut xk) = (vec![0.0; n], vec![0.0; K]);
+            let mut ts: Vec<f64> = (0..calls)
+                .map(|_| us(time_solve(&work, &rhs, &mut xb, &mut xk)))
+                .collect();
+            for (t, row) in [&mut tf, &mut ts].into_iter().zip(rows.iter_mut()) {
+                t.sort_by(f64::total_cmp);
+                row.0.push(t[0]);
+                row.1.push(t[t.len() / 2]);
             }
-            group.finish();
+        }
+        for (op, (min, med)) in ["factor", "solve"].iter().zip(&rows) {
+            let fmt = |v: &[f64]| v.iter().map(|x| format!("{x:8.2}")).collect::<String>();
+            let ratios: String = min
+                .windows(2)
+                .map(|w| format!(" {:.2}", w[1] / w[0]))
+                .collect();
+            let per_row: String = min
+                .iter()
+                .zip(SIZES)
+                .map(|(t, n)| format!(" {:.0}", t * 1e3 / n as f64))
+                .collect();
+            println!(
+                "{kind} bw{bw:<2} {op:6} min µs{} | median µs{} | ratios{ratios} | ns/row{per_row}",
+                fmt(min),
+                fmt(med)
+            );
         }
     }
 }
@@ -116,4 +174,13 @@ criterion_group! {
         .measurement_time(Duration::from_secs(3));
     targets = bench
 }
-criterion_main!(benches);
+
+fn main() {
+    match std::env::var("FFR_LINALG_MIN") {
+        Ok(reps) => per_call(reps.parse().expect("FFR_LINALG_MIN=number of repetitions")),
+        Err(_) => {
+            benches();
+            Criterion::default().configure_from_args().final_summary();
+        }
+    }
+}
