@@ -13,6 +13,7 @@ pub mod error;
 pub mod force;
 pub mod integrator;
 pub mod joint;
+pub mod linalg;
 pub mod marker;
 pub mod model;
 pub mod rigid;
