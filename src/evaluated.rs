@@ -1,144 +1,248 @@
-//! A body whose generated programs are evaluated at run time instead of
-//! compiled: any shape file and element count without a rebuild, bit for bit
-//! the numbers the compiled code gives (same operations in the same order).
+//! Element kernels run from tapes at run time instead of compiled: any
+//! shape file without a rebuild, bit for bit the numbers the compiled
+//! kernels give (same programs, same operations in the same order), at the
+//! cost of an interpreter (see the README's speed table). The built-in shapes
+//! use compiled kernels ([`crate::compiled`]); this is the path for a shape
+//! chosen at run time.
 
-use crate::codegen::program::Tape;
-use crate::codegen::{BodySpec, Generated, Options, ParamValues, Target};
-use crate::runtime::nalgebra::DMatrix;
-use crate::runtime::{FlexBody, InertiaTerms, Invariants};
-use std::cell::RefCell;
+use crate::codegen::eom::OutArr;
+use crate::codegen::program::{Inputs, Program, Tape};
+use crate::codegen::{generate_kernels, KernelModel, KernelSet};
+use crate::runtime::spec::{Param, Params};
+use crate::runtime::{ElementKernels, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut};
+use std::borrow::Cow;
 
-/// A [`FlexBody`] running the generator's programs on tapes.
+/// Element kernels evaluated from the generator's programs.
 #[derive(Debug)]
-pub struct EvaluatedBody {
-    dim: usize,
-    dofs: Vec<String>,
-    params: [f64; 8],
+pub struct TapeKernels {
+    info: KernelInfo,
+    coefficients: Tape,
+    mass: Tape,
+    residual: Option<Tape>,
+    tangent: Option<Tape>,
+    residual_elastic: Tape,
+    tangent_elastic: Tape,
+    energy: Tape,
     invariants: Tape,
-    inertia: Tape,
-    stiffening: Option<(Tape, Tape)>,
-    scratch: RefCell<Vec<f64>>,
+    point_shape: Tape,
 }
 
-impl EvaluatedBody {
-    /// Generate `spec` with `options` and bind the parameter values.
-    pub fn new(
-        spec: &BodySpec,
-        options: Options,
-        params: ParamValues,
-    ) -> Result<Self, crate::codegen::Error> {
-        params.validate()?;
-        Ok(Self::from_generated(
-            &crate::codegen::generate(spec, options)?,
-            params,
-        ))
-    }
-
-    /// Bind parameter values to already generated programs.
-    pub fn from_generated(g: &Generated, params: ParamValues) -> Self {
-        Self {
-            dim: g.exact.dim,
-            dofs: g.dofs.iter().map(|d| d.to_string()).collect(),
-            params: params.to_array(),
-            invariants: g.invariants.tape(),
-            inertia: g.inertia.tape(),
-            stiffening: g
-                .stiffening_force
-                .as_ref()
-                .zip(g.stiffening_tangent.as_ref())
-                .map(|(f, t)| (f.tape(), t.tape())),
-            scratch: RefCell::new(Vec::new()),
-        }
-    }
-
-    fn run(&self, tape: &Tape, q: &[f64], mut out: impl FnMut(Target, f64)) {
-        let mut slots = self.scratch.borrow_mut();
-        tape.run(&self.params, q, &mut slots);
-        for &(t, r) in &tape.outputs {
-            out(t, slots[r as usize]);
-        }
-    }
+fn tape(p: &Program) -> Tape {
+    p.tape()
 }
 
-impl FlexBody for EvaluatedBody {
-    fn nf(&self) -> usize {
-        self.dofs.len()
+impl TapeKernels {
+    /// Generate the kernels of `model` and put them on tapes.
+    pub fn new(model: &KernelModel) -> Result<Self, crate::codegen::Error> {
+        Ok(Self::from_set(&generate_kernels(model)?))
     }
 
-    fn dim(&self) -> usize {
-        self.dim
-    }
-
-    fn dof_labels(&self) -> Vec<String> {
-        self.dofs.clone()
-    }
-
-    fn invariants(&self) -> Invariants {
-        let mut inv = Invariants::zeros(self.dim, self.nf());
-        self.run(&self.invariants, &[], |t, v| match t {
-            Target::Mass => inv.mass = v,
-            Target::St0(k) => inv.s_t0[k] = v,
-            Target::SBar(k, a) => inv.s_bar[(k, a)] = v,
-            Target::Skl(k, l, a, b) => {
-                inv.s_kl[k][l][(a, b)] = v;
-                inv.s_kl[l][k][(b, a)] = v;
-            }
-            Target::Ikl(k, l, a) => inv.i_kl[k][l][a] = v,
-            Target::Theta(k, l) => {
-                inv.theta[(k, l)] = v;
-                inv.theta[(l, k)] = v;
-            }
-            Target::Mff(a, b) => {
-                inv.m_ff[(a, b)] = v;
-                inv.m_ff[(b, a)] = v;
-            }
-            Target::Kff(a, b) => {
-                inv.k_ff[(a, b)] = v;
-                inv.k_ff[(b, a)] = v;
-            }
-            _ => {}
-        });
-        inv
-    }
-
-    fn inertia_terms(&self, q_f: &[f64], out: &mut InertiaTerms) {
-        assert_eq!(q_f.len(), self.nf(), "q_f must have {} entries", self.nf());
-        out.s_t.fill(0.0);
-        out.i_theta_theta.fill(0.0);
-        out.i_theta_f.fill(0.0);
-        self.run(&self.inertia, q_f, |t, v| match t {
-            Target::St(k) => out.s_t[k] = v,
-            Target::ItTheta(k, l) => {
-                out.i_theta_theta[(k, l)] = v;
-                out.i_theta_theta[(l, k)] = v;
-            }
-            Target::ItF(k, a) => out.i_theta_f[(k, a)] = v,
-            _ => {}
-        });
-    }
-
-    fn has_stiffening(&self) -> bool {
-        self.stiffening.is_some()
-    }
-
-    fn stiffening(&self, q_f: &[f64], force: &mut [f64], tangent: Option<&mut DMatrix<f64>>) {
-        let Some((ft, tt)) = &self.stiffening else {
-            return;
+    /// Tapes of already generated programs.
+    pub fn from_set(set: &KernelSet) -> Self {
+        let m = set.model();
+        let progs: Vec<Tape> = set.programs().iter().map(|(_, p)| tape(p)).collect();
+        let scratch = progs
+            .iter()
+            .map(Tape::n_slots)
+            .chain(std::iter::once(set.coefficient_program.tape().n_slots()))
+            .max()
+            .unwrap_or(0);
+        let info = KernelInfo {
+            shape: Cow::Owned(m.shape.name.clone()),
+            dim: m.shape.dimension,
+            scene_dim: m.scene_dim,
+            n_local: set.n(),
+            coordinates: Cow::Owned(m.shape.element_coordinates()),
+            formalism: m.formalism,
+            stiffening: m.stiffening,
+            free_frame: m.free_frame,
+            n_coefficients: set.coefficients.len(),
+            params_used: Cow::Owned(set.params_used()),
+            scratch,
         };
-        self.run(ft, q_f, |t, v| {
-            if let Target::Force(a) = t {
-                force[a] += v;
-            }
-        });
-        if let Some(k) = tangent {
-            self.run(tt, q_f, |t, v| {
-                if let Target::Tangent(a, b) = t {
-                    k[(a, b)] += v;
-                    if a != b {
-                        k[(b, a)] += v;
-                    }
-                }
-            });
+        Self {
+            info,
+            coefficients: set.coefficient_program.tape(),
+            mass: tape(&set.mass),
+            residual: set.residual.as_ref().map(tape),
+            tangent: set.tangent.as_ref().map(tape),
+            residual_elastic: tape(&set.residual_elastic),
+            tangent_elastic: tape(&set.tangent_elastic),
+            energy: tape(&set.energy),
+            invariants: tape(&set.element_invariants),
+            point_shape: tape(&set.point_shape),
         }
+    }
+}
+
+fn run(t: &Tape, inputs: &Inputs, scratch: &mut [f64], mut out: impl FnMut(OutArr, usize, f64)) {
+    let slots = &mut scratch[..t.n_slots()];
+    t.run(inputs, slots);
+    for &((arr, i), r) in &t.outputs {
+        out(arr, i as usize, slots[r as usize]);
+    }
+}
+
+fn kernel_inputs<'a>(c: &'a [f64], x: &KernelInput<'a>) -> Inputs<'a> {
+    Inputs {
+        coef: c,
+        x0: x.x0,
+        frame: x.frame,
+        q: x.q,
+        qd: x.qd,
+        qdd: x.qdd,
+        ..Inputs::default()
+    }
+}
+
+impl ElementKernels for TapeKernels {
+    fn info(&self) -> &KernelInfo {
+        &self.info
+    }
+
+    fn coefficients(&self, params: &Params, l: f64, c: &mut [f64]) {
+        let mut p = [0.0; 9];
+        p[..8].copy_from_slice(&params.to_array());
+        p[8] = l;
+        let _ = Param::ElemLength;
+        let mut scratch = vec![0.0; self.coefficients.n_slots()];
+        run(
+            &self.coefficients,
+            &Inputs {
+                params: &p,
+                ..Inputs::default()
+            },
+            &mut scratch,
+            |_, i, v| c[i] = v,
+        );
+    }
+
+    fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut MassOut, scratch: &mut [f64]) {
+        let inputs = Inputs {
+            coef: c,
+            x0,
+            q,
+            ..Inputs::default()
+        };
+        run(&self.mass, &inputs, scratch, |arr, i, v| match arr {
+            OutArr::St => out.s_t[i] = v,
+            OutArr::Mee => out.m_ee[i] = v,
+            OutArr::MeFrame => out.m_e_frame[i] = v,
+            OutArr::MrefE => out.m_ref_e[i] = v,
+            OutArr::MrefFrame => out.m_ref_frame[i] = v,
+            other => unreachable!("{other:?} in mass"),
+        });
+    }
+
+    fn residual(&self, c: &[f64], x: &KernelInput, out: &mut ResidualOut, scratch: &mut [f64]) {
+        let t = self
+            .residual
+            .as_ref()
+            .expect("kernels generated without the reference rows");
+        run(t, &kernel_inputs(c, x), scratch, |arr, i, v| match arr {
+            OutArr::Fr => out.f_r[i] = v,
+            OutArr::Fth => out.f_th[i] = v,
+            OutArr::Fe => out.f_e[i] = v,
+            other => unreachable!("{other:?} in residual"),
+        });
+    }
+
+    fn tangent(
+        &self,
+        c: &[f64],
+        x: &KernelInput,
+        bp: f64,
+        gp: f64,
+        out: &mut TangentOut,
+        scratch: &mut [f64],
+    ) {
+        let t = self
+            .tangent
+            .as_ref()
+            .expect("kernels generated without the reference rows");
+        let inputs = Inputs {
+            bp,
+            gp,
+            ..kernel_inputs(c, x)
+        };
+        run(t, &inputs, scratch, |arr, i, v| match arr {
+            OutArr::Fr => out.f_r[i] = v,
+            OutArr::Fth => out.f_th[i] = v,
+            OutArr::Fe => out.f_e[i] = v,
+            OutArr::Kee => out.k_ee[i] = v,
+            OutArr::DeFrame => out.d_e_frame[i] = v,
+            OutArr::KrefE => out.k_ref_e[i] = v,
+            OutArr::DrefFrame => out.d_ref_frame[i] = v,
+            other => unreachable!("{other:?} in tangent"),
+        });
+    }
+
+    fn residual_elastic(&self, c: &[f64], x: &KernelInput, f_e: &mut [f64], scratch: &mut [f64]) {
+        run(
+            &self.residual_elastic,
+            &kernel_inputs(c, x),
+            scratch,
+            |_, i, v| f_e[i] = v,
+        );
+    }
+
+    fn tangent_elastic(
+        &self,
+        c: &[f64],
+        x: &KernelInput,
+        bp: f64,
+        gp: f64,
+        f_e: &mut [f64],
+        k_ee: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        let inputs = Inputs {
+            bp,
+            gp,
+            ..kernel_inputs(c, x)
+        };
+        run(
+            &self.tangent_elastic,
+            &inputs,
+            scratch,
+            |arr, i, v| match arr {
+                OutArr::Fe => f_e[i] = v,
+                OutArr::Kee => k_ee[i] = v,
+                other => unreachable!("{other:?} in tangent_elastic"),
+            },
+        );
+    }
+
+    fn energy(&self, c: &[f64], q: &[f64], scratch: &mut [f64]) -> f64 {
+        let mut e = 0.0;
+        let inputs = Inputs {
+            coef: c,
+            q,
+            ..Inputs::default()
+        };
+        run(&self.energy, &inputs, scratch, |_, _, v| e = v);
+        e
+    }
+
+    fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64], scratch: &mut [f64]) {
+        let inputs = Inputs {
+            coef: c,
+            x0,
+            ..Inputs::default()
+        };
+        run(&self.invariants, &inputs, scratch, |_, i, v| out[i] = v);
+    }
+
+    fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64], scratch: &mut [f64]) {
+        let inputs = Inputs {
+            coef: c,
+            xi,
+            ..Inputs::default()
+        };
+        run(&self.point_shape, &inputs, scratch, |arr, i, v| match arr {
+            OutArr::S => s[i] = v,
+            OutArr::Psi => psi[i] = v,
+            other => unreachable!("{other:?} in point_shape"),
+        });
     }
 }

@@ -17,6 +17,10 @@ fn main() {
     .unwrap();
     let gen = t.elapsed();
     let text = ffr_codegen::emit_kernels_file(&set, "K", "::ffr_runtime");
-    eprintln!("generated in {gen:?}, {} bytes, {} lines", text.len(), text.lines().count());
+    eprintln!(
+        "generated in {gen:?}, {} bytes, {} lines",
+        text.len(),
+        text.lines().count()
+    );
     println!("{text}");
 }

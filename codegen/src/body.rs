@@ -323,9 +323,7 @@ fn lumped_element(shape: &Shape) -> Result<ExactInvariants, Error> {
         let at = |f: &Poly| f.substitute(Sym::Xi, &Poly::int(xi));
         let x = Poly::var(Sym::X0).add(&l.scale(&rat(xi, 1)));
         let u0 = [x, Poly::zero(), Poly::zero()];
-        let nj: Vec<Vec<Poly>> = (0..3)
-            .map(|k| centre[k].iter().map(at).collect())
-            .collect();
+        let nj: Vec<Vec<Poly>> = (0..3).map(|k| centre[k].iter().map(at).collect()).collect();
         for k in 0..3 {
             inv.s_t0[k].add_assign(&half.mul(&u0[k]));
             for kk in 0..3 {

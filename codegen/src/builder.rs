@@ -531,7 +531,10 @@ y = ["0", "1 - xi", "0", "xi"]
         assert!(bar.contains("shape `bar` (shapes/bar.toml, fnv1a"), "{bar}");
         assert!(bar.contains("lumped formalism"), "{bar}");
         let arm = std::fs::read_to_string(&paths[0]).unwrap();
-        assert!(arm.contains("stiffening FourthOrder") || arm.contains("stiffening fourth-order"), "{arm}");
+        assert!(
+            arm.contains("stiffening FourthOrder") || arm.contains("stiffening fourth-order"),
+            "{arm}"
+        );
         assert_eq!(
             b.rerun_lines(),
             vec![format!(
@@ -594,10 +597,13 @@ y = ["0", "1 - xi", "0", "xi"]
             err(Builder::new().body(BodyConfig::new("arm", "bad.toml", 2, Reference::Clamped))),
             "bad.toml:2:13: dimension must be 2 (planar) or 3 (spatial), found 4"
         );
-        assert!(
-            err(Builder::new().body(BodyConfig::new("arm", "missing.toml", 2, Reference::Clamped)))
-                .starts_with(&format!("{}: ", dir.join("missing.toml").display()))
-        );
+        assert!(err(Builder::new().body(BodyConfig::new(
+            "arm",
+            "missing.toml",
+            2,
+            Reference::Clamped
+        )))
+        .starts_with(&format!("{}: ", dir.join("missing.toml").display())));
         assert!(
             err(Builder::new().body(BodyConfig::new("arm-1", "beam3", 2, Reference::Clamped)))
                 .contains("body name `arm-1` is not a Rust identifier")

@@ -43,7 +43,10 @@ pub struct Dag {
 
 /// Whether `s` is a kernel input (not a parameter, not an integration variable).
 pub fn is_input(s: Sym) -> bool {
-    !matches!(s, Sym::Param(_) | Sym::Xi | Sym::Eta | Sym::Zeta | Sym::Z(_))
+    !matches!(
+        s,
+        Sym::Param(_) | Sym::Xi | Sym::Eta | Sym::Zeta | Sym::Z(_)
+    )
 }
 
 fn z_of(s: Sym) -> Option<u32> {

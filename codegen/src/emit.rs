@@ -8,8 +8,8 @@ use crate::body::BodySpec;
 use crate::eom::OutArr;
 use crate::kernel::KernelSet;
 use crate::poly::Param;
-use crate::program::{Expr, Input, Program};
 use crate::poly::Sym;
+use crate::program::{Expr, Input, Program};
 use std::fmt::Write;
 
 /// How to emit.
@@ -51,7 +51,11 @@ pub fn describe(set: &KernelSet) -> String {
         m.shape.source_hash,
         m.formalism,
         m.stiffening,
-        if m.scene_dim == 2 { "planar" } else { "spatial" },
+        if m.scene_dim == 2 {
+            "planar"
+        } else {
+            "spatial"
+        },
         if m.free_frame {
             "free frame"
         } else {
@@ -65,7 +69,10 @@ pub fn omissions(set: &KernelSet) -> Vec<String> {
     let m = set.model();
     let mut v = Vec::new();
     if m.scene_dim == 2 {
-        v.push("ā_z, α_x, α_y, ω_x, ω_y and their terms: planar scene (motion in the x–y plane)".to_string());
+        v.push(
+            "ā_z, α_x, α_y, ω_x, ω_y and their terms: planar scene (motion in the x–y plane)"
+                .to_string(),
+        );
     }
     if !m.free_frame {
         v.push("reference rows f_r, f_θ and the frame derivatives (residual, tangent): frame motion prescribed".to_string());
@@ -206,7 +213,9 @@ fn program_body(p: &Program, out: &mut String) {
 
 /// Which kernel input arrays a program reads.
 fn reads(p: &Program, f: impl Fn(Sym) -> bool) -> bool {
-    p.inputs.iter().any(|(_, i)| matches!(i, Input::Sym(s) if f(*s)))
+    p.inputs
+        .iter()
+        .any(|(_, i)| matches!(i, Input::Sym(s) if f(*s)))
 }
 
 fn reads_coef(p: &Program) -> bool {
@@ -235,7 +244,11 @@ impl Views<'_> {
     fn input(&mut self, name: &str, src: &str, f: impl Fn(Sym) -> bool) {
         if reads(self.p, f) {
             let n = self.n;
-            writeln!(self.s, "let {name}: &[f64; {n}] = {src}.try_into().expect(\"`{name}` has {n} entries\");").unwrap();
+            writeln!(
+                self.s,
+                "let {name}: &[f64; {n}] = {src}.try_into().expect(\"`{name}` has {n} entries\");"
+            )
+            .unwrap();
         }
     }
     fn scalar(&mut self, name: &str, src: &str, f: impl Fn(Sym) -> bool) {
@@ -254,7 +267,9 @@ impl Views<'_> {
         self.input("q", &format!("{via}q"), |s| matches!(s, Sym::Q(_)));
         self.input("qd", &format!("{via}qd"), |s| matches!(s, Sym::Qd(_)));
         self.input("qdd", &format!("{via}qdd"), |s| matches!(s, Sym::Qdd(_)));
-        self.scalar("frame", &format!("{via}frame"), |s| matches!(s, Sym::Frame(_)));
+        self.scalar("frame", &format!("{via}frame"), |s| {
+            matches!(s, Sym::Frame(_))
+        });
     }
 }
 
@@ -309,7 +324,7 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
     writeln!(s, "#[allow(clippy::all, clippy::pedantic, unused_variables)]\nimpl {rt}::ElementKernels for {kt} {{").unwrap();
     writeln!(
         s,
-        "fn info(&self) -> &{rt}::KernelInfo {{ const INFO: {rt}::KernelInfo = {rt}::KernelInfo {{ shape: {:?}, dim: {}, scene_dim: {}, n_local: {n}, coordinates: &[{coords}], formalism: {rt}::spec::Formalism::{:?}, stiffening: {rt}::spec::Stiffening::{:?}, free_frame: {}, n_coefficients: {nc}, params_used: &[{params}] }}; &INFO }}",
+        "fn info(&self) -> &{rt}::KernelInfo {{ const INFO: {rt}::KernelInfo = {rt}::KernelInfo {{ shape: ::std::borrow::Cow::Borrowed({:?}), dim: {}, scene_dim: {}, n_local: {n}, coordinates: ::std::borrow::Cow::Borrowed(&[{coords}]), formalism: {rt}::spec::Formalism::{:?}, stiffening: {rt}::spec::Stiffening::{:?}, free_frame: {}, n_coefficients: {nc}, params_used: ::std::borrow::Cow::Borrowed(&[{params}]), scratch: 0 }}; &INFO }}",
         comment_text(&m.shape.name),
         m.shape.dimension,
         m.scene_dim,
@@ -322,14 +337,23 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
     // Coefficients.
     let cp = &set.coefficient_program;
     s.push_str(&ops_doc(cp));
-    writeln!(s, "fn coefficients(&self, params: &{rt}::spec::Params, l: f64, c: &mut [f64]) {{").unwrap();
+    writeln!(
+        s,
+        "fn coefficients(&self, params: &{rt}::spec::Params, l: f64, c: &mut [f64]) {{"
+    )
+    .unwrap();
     writeln!(s, "let c: &mut [f64; {nc}] = c.try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
     program_body(cp, &mut s);
     s.push_str("}\n");
 
     // mass
     let p = &set.mass;
-    let mut v = Views { p, n, nc, s: String::new() };
+    let mut v = Views {
+        p,
+        n,
+        nc,
+        s: String::new(),
+    };
     v.coef();
     v.scalar("x0", "x0", |s| s == Sym::X0);
     v.input("q", "q", |s| matches!(s, Sym::Q(_)));
@@ -339,26 +363,36 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
     v.output(OutArr::MrefE, "out.m_ref_e", 6 * n);
     v.output(OutArr::MrefFrame, "out.m_ref_frame", 36);
     s.push_str(&ops_doc(p));
-    writeln!(s, "fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut {rt}::MassOut) {{").unwrap();
+    writeln!(s, "fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut {rt}::MassOut, _scratch: &mut [f64]) {{").unwrap();
     s.push_str(&v.s);
     program_body(p, &mut s);
     s.push_str("}\n");
 
     // residual / tangent (free frame)
     if let (Some(rp), Some(tp)) = (&set.residual, &set.tangent) {
-        let mut v = Views { p: rp, n, nc, s: String::new() };
+        let mut v = Views {
+            p: rp,
+            n,
+            nc,
+            s: String::new(),
+        };
         v.coef();
         v.kernel_inputs("x.");
         v.output(OutArr::Fr, "out.f_r", 3);
         v.output(OutArr::Fth, "out.f_th", 3);
         v.output(OutArr::Fe, "out.f_e", n);
         s.push_str(&ops_doc(rp));
-        writeln!(s, "fn residual(&self, c: &[f64], x: &{rt}::KernelInput, out: &mut {rt}::ResidualOut) {{").unwrap();
+        writeln!(s, "fn residual(&self, c: &[f64], x: &{rt}::KernelInput, out: &mut {rt}::ResidualOut, _scratch: &mut [f64]) {{").unwrap();
         s.push_str(&v.s);
         program_body(rp, &mut s);
         s.push_str("}\n");
 
-        let mut v = Views { p: tp, n, nc, s: String::new() };
+        let mut v = Views {
+            p: tp,
+            n,
+            nc,
+            s: String::new(),
+        };
         v.coef();
         v.kernel_inputs("x.");
         v.scalar("bp", "bp", |s| s == Sym::Bp);
@@ -371,7 +405,7 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
         v.output(OutArr::KrefE, "out.k_ref_e", 6 * n);
         v.output(OutArr::DrefFrame, "out.d_ref_frame", 54);
         s.push_str(&ops_doc(tp));
-        writeln!(s, "fn tangent(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, out: &mut {rt}::TangentOut) {{").unwrap();
+        writeln!(s, "fn tangent(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, out: &mut {rt}::TangentOut, _scratch: &mut [f64]) {{").unwrap();
         s.push_str(&v.s);
         program_body(tp, &mut s);
         s.push_str("}\n");
@@ -379,18 +413,28 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
 
     // elastic-only kernels
     let p = &set.residual_elastic;
-    let mut v = Views { p, n, nc, s: String::new() };
+    let mut v = Views {
+        p,
+        n,
+        nc,
+        s: String::new(),
+    };
     v.coef();
     v.kernel_inputs("x.");
     v.output(OutArr::Fe, "f_e", n);
     s.push_str(&ops_doc(p));
-    writeln!(s, "fn residual_elastic(&self, c: &[f64], x: &{rt}::KernelInput, f_e: &mut [f64]) {{").unwrap();
+    writeln!(s, "fn residual_elastic(&self, c: &[f64], x: &{rt}::KernelInput, f_e: &mut [f64], _scratch: &mut [f64]) {{").unwrap();
     s.push_str(&v.s);
     program_body(p, &mut s);
     s.push_str("}\n");
 
     let p = &set.tangent_elastic;
-    let mut v = Views { p, n, nc, s: String::new() };
+    let mut v = Views {
+        p,
+        n,
+        nc,
+        s: String::new(),
+    };
     v.coef();
     v.kernel_inputs("x.");
     v.scalar("bp", "bp", |s| s == Sym::Bp);
@@ -398,45 +442,64 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
     v.output(OutArr::Fe, "f_e", n);
     v.output(OutArr::Kee, "k_ee", n * n);
     s.push_str(&ops_doc(p));
-    writeln!(s, "fn tangent_elastic(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, f_e: &mut [f64], k_ee: &mut [f64]) {{").unwrap();
+    writeln!(s, "fn tangent_elastic(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, f_e: &mut [f64], k_ee: &mut [f64], _scratch: &mut [f64]) {{").unwrap();
     s.push_str(&v.s);
     program_body(p, &mut s);
     s.push_str("}\n");
 
     // energy
     let p = &set.energy;
-    let mut v = Views { p, n, nc, s: String::new() };
+    let mut v = Views {
+        p,
+        n,
+        nc,
+        s: String::new(),
+    };
     v.coef();
     v.input("q", "q", |s| matches!(s, Sym::Q(_)));
     s.push_str(&ops_doc(p));
-    writeln!(s, "fn energy(&self, c: &[f64], q: &[f64]) -> f64 {{").unwrap();
+    writeln!(
+        s,
+        "fn energy(&self, c: &[f64], q: &[f64], _scratch: &mut [f64]) -> f64 {{"
+    )
+    .unwrap();
     s.push_str(&v.s);
-    s.push_str("let mut energy = 0.0;\n");
+    s.push_str("let energy;\n");
     program_body(p, &mut s);
     s.push_str("energy\n}\n");
 
     // element invariants
     let p = &set.element_invariants;
     let (_, inv_len) = ffr_spec::invariant_layout(n);
-    let mut v = Views { p, n, nc, s: String::new() };
+    let mut v = Views {
+        p,
+        n,
+        nc,
+        s: String::new(),
+    };
     v.coef();
     v.scalar("x0", "x0", |s| s == Sym::X0);
     v.output(OutArr::Inv, "out", inv_len);
     s.push_str(&ops_doc(p));
-    writeln!(s, "fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64]) {{").unwrap();
+    writeln!(s, "fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64], _scratch: &mut [f64]) {{").unwrap();
     s.push_str(&v.s);
     program_body(p, &mut s);
     s.push_str("}\n");
 
     // point shape
     let p = &set.point_shape;
-    let mut v = Views { p, n, nc, s: String::new() };
+    let mut v = Views {
+        p,
+        n,
+        nc,
+        s: String::new(),
+    };
     v.coef();
     v.scalar("xi", "xi", |s| s == Sym::Xi);
     v.output(OutArr::S, "s", 3 * n);
     v.output(OutArr::Psi, "psi", 3 * n);
     s.push_str(&ops_doc(p));
-    writeln!(s, "fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64]) {{").unwrap();
+    writeln!(s, "fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64], _scratch: &mut [f64]) {{").unwrap();
     s.push_str(&v.s);
     program_body(p, &mut s);
     s.push_str("}\n}\n");
@@ -477,7 +540,13 @@ pub fn body_items(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> Strin
             } else {
                 " (not used by this shape)"
             };
-            writeln!(s, "#[doc = \" {}{note}.\"]\npub {}: f64,", f.doc(), f.field()).unwrap();
+            writeln!(
+                s,
+                "#[doc = \" {}{note}.\"]\npub {}: f64,",
+                f.doc(),
+                f.field()
+            )
+            .unwrap();
         }
         writeln!(s, "}}").unwrap();
         writeln!(s, "impl ::core::convert::From<{rt}::spec::Params> for {ty} {{\nfn from(p: {rt}::spec::Params) -> Self {{\nSelf {{ {} }}\n}}\n}}",

@@ -65,8 +65,7 @@ fn series(first: usize, len: usize) -> Poly {
     let mut s = Poly::zero();
     for i in 0..len {
         s.add_assign(
-            &Poly::var(Sym::Z((first + i) as u32))
-                .mul_monomial(&Monomial::var(Sym::Xi, i as i32)),
+            &Poly::var(Sym::Z((first + i) as u32)).mul_monomial(&Monomial::var(Sym::Xi, i as i32)),
         );
     }
     s

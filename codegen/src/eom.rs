@@ -151,7 +151,11 @@ fn mat_vec(m: &[[Poly; 3]; 3], v: &[Poly; 3]) -> [Poly; 3] {
 }
 
 /// `qᵀ M x` for a polynomial matrix and two coordinate families.
-fn bilinear(m: &crate::body::PolyMatrix, x: impl Fn(usize) -> Sym, y: impl Fn(usize) -> Sym) -> Poly {
+fn bilinear(
+    m: &crate::body::PolyMatrix,
+    x: impl Fn(usize) -> Sym,
+    y: impl Fn(usize) -> Sym,
+) -> Poly {
     let mut s = Poly::zero();
     for a in 0..m.rows {
         for b in 0..m.cols {
@@ -199,7 +203,12 @@ impl KernelModel {
 
         // Intermediates of q.
         let s_t: [Poly; 3] = std::array::from_fn(|k| {
-            let p = inv.s_t0[k].add(&linear(&(0..n).map(|a| inv.s_bar.get(k, a).clone()).collect::<Vec<_>>(), q));
+            let p = inv.s_t0[k].add(&linear(
+                &(0..n)
+                    .map(|a| inv.s_bar.get(k, a).clone())
+                    .collect::<Vec<_>>(),
+                q,
+            ));
             dag.bind(&format!("s_t_{}", AXES[k]), p)
         });
         let mut u: [[Poly; 3]; 3] = Default::default();
@@ -245,7 +254,11 @@ impl KernelModel {
             })
             .collect();
         // S̄ q̇, S̄ q̈ and P_kl = Ī_kl q̇ + qᵀ S̄_kl q̇.
-        let row = |k: usize| (0..n).map(|a| inv.s_bar.get(k, a).clone()).collect::<Vec<_>>();
+        let row = |k: usize| {
+            (0..n)
+                .map(|a| inv.s_bar.get(k, a).clone())
+                .collect::<Vec<_>>()
+        };
         let sbar_qd: [Poly; 3] = std::array::from_fn(|k| linear(&row(k), qd));
         let sbar_qdd: [Poly; 3] = std::array::from_fn(|k| linear(&row(k), qdd));
         let p_kl: [[Poly; 3]; 3] = std::array::from_fn(|k| {
@@ -273,7 +286,8 @@ impl KernelModel {
         let i_w = mat_vec(&i_tt, &w);
         let gyro = cross(&w, &i_w);
         let tr_p = p_kl[0][0].add(&p_kl[1][1]).add(&p_kl[2][2]);
-        let p_t: [[Poly; 3]; 3] = std::array::from_fn(|k| std::array::from_fn(|l| p_kl[l][k].clone()));
+        let p_t: [[Poly; 3]; 3] =
+            std::array::from_fn(|k| std::array::from_fn(|l| p_kl[l][k].clone()));
         let pt_w = mat_vec(&p_t, &w);
         let f_th: [Poly; 3] = std::array::from_fn(|k| {
             let mut itf_qdd = Poly::zero();
@@ -393,7 +407,12 @@ impl KernelModel {
         }
         for a in 0..n {
             for b in 0..n {
-                push(&mut mass, OutArr::Mee, a * n + b, inv.m_ff.get(a, b).clone());
+                push(
+                    &mut mass,
+                    OutArr::Mee,
+                    a * n + b,
+                    inv.m_ff.get(a, b).clone(),
+                );
             }
             for k in 0..6 {
                 if live(k) {
@@ -511,7 +530,10 @@ fn invariant_outputs(inv: &ExactInvariants) -> Outputs {
         for l in 0..3 {
             for a in 0..n {
                 for b in 0..n {
-                    put(off[3] + ((k * 3 + l) * n + a) * n + b, inv.s_kl[k][l].get(a, b));
+                    put(
+                        off[3] + ((k * 3 + l) * n + a) * n + b,
+                        inv.s_kl[k][l].get(a, b),
+                    );
                 }
                 put(off[4] + (k * 3 + l) * n + a, &inv.i_kl[k][l][a]);
             }

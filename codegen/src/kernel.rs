@@ -81,9 +81,8 @@ impl KernelSet {
 pub fn generate_kernels(model: &KernelModel) -> Result<KernelSet, Error> {
     let polys = model.polys()?;
     let mut coefficients = Coefficients::default();
-    let mut build = |outputs: &Outputs| {
-        ProgramBuilder::new(Some(&mut coefficients)).build(&polys.dag, outputs)
-    };
+    let mut build =
+        |outputs: &Outputs| ProgramBuilder::new(Some(&mut coefficients)).build(&polys.dag, outputs);
     let mass = build(&polys.mass);
     let residual = polys.residual.as_ref().map(&mut build);
     let tangent = polys.tangent.as_ref().map(&mut build);

@@ -506,10 +506,17 @@ impl<'c> ProgramBuilder<'c> {
     fn coefficient(&mut self, c: &Poly) -> (bool, Option<Expr>) {
         if let Some(r) = c.as_constant() {
             let a = r.abs();
-            return (r.is_negative(), (!a.is_one()).then(|| Expr::Lit(to_f64(&a))));
+            return (
+                r.is_negative(),
+                (!a.is_one()).then(|| Expr::Lit(to_f64(&a))),
+            );
         }
         let neg = c.terms().next().is_some_and(|(_, r)| r.is_negative());
-        let norm = if neg { c.scale(&-Rational::one()) } else { c.clone() };
+        let norm = if neg {
+            c.scale(&-Rational::one())
+        } else {
+            c.clone()
+        };
         match self.coefs.as_deref_mut() {
             Some(reg) => {
                 let i = reg.get(norm);
@@ -623,18 +630,26 @@ mod tests {
         );
         p.add_term(Monomial::var(rho, 1).mul(&Monomial::var(l, -1)), rat(1, 1));
         let mut coefs = Coefficients::default();
-        let prog = ProgramBuilder::new(Some(&mut coefs)).build(
-            &Dag::new(),
-            &[((OutArr::Energy, 0), p)],
-        );
+        let prog =
+            ProgramBuilder::new(Some(&mut coefs)).build(&Dag::new(), &[((OutArr::Energy, 0), p)]);
         assert_eq!(coefs.len(), 3);
         assert!(prog.params().is_empty());
         let cprog = coefs.program();
         let params = [2.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.5];
         let mut cslots = vec![0.0; cprog.tape().n_slots()];
         let ct = cprog.tape();
-        ct.run(&Inputs { params: &params, ..Inputs::default() }, &mut cslots);
-        let c: Vec<f64> = ct.outputs.iter().map(|&(_, r)| cslots[r as usize]).collect();
+        ct.run(
+            &Inputs {
+                params: &params,
+                ..Inputs::default()
+            },
+            &mut cslots,
+        );
+        let c: Vec<f64> = ct
+            .outputs
+            .iter()
+            .map(|&(_, r)| cslots[r as usize])
+            .collect();
         let t = prog.tape();
         let mut slots = vec![0.0; t.n_slots()];
         let frame = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.7];

@@ -11,7 +11,9 @@ use ffr_codegen::builder::resolve_shape;
 use ffr_codegen::emit::body_items;
 use ffr_codegen::poly::Param;
 use ffr_codegen::shape::builtin_names;
-use ffr_codegen::{generate, BodySpec, EmitOptions, Formalism, Options, Reference};
+use ffr_codegen::{
+    generate_kernels, BodySpec, EmitOptions, Formalism, KernelModel, Reference, Stiffening,
+};
 use proc_macro::TokenStream;
 use proc_macro2::{Span, TokenStream as TokenStream2};
 use quote::{quote, ToTokens};
@@ -37,7 +39,11 @@ use syn::{Error, Expr, ExprLit, Fields, Item, ItemStruct, Lit, LitStr, Result, T
 /// - `elements = 8`: number of equal elements, 1 to 256.
 /// - `reference = "clamped" | "pinned" | "free"` (default `"clamped"`).
 /// - `formalism = "consistent" | "lumped"` (default `"consistent"`).
-/// - `stiffening = true | false`: geometric stiffening (default `false`).
+/// - `stiffening = true | false | "second-order" | "fourth-order"`: geometric
+///   stiffening (default `false`; `true` is the fourth-order model).
+/// - `scene = "planar" | "spatial"`: the scene the body moves in (default:
+///   the shape's dimension; a planar shape in a spatial scene needs
+///   `"spatial"`).
 ///
 /// The struct needs an `f64` field for every parameter the body uses
 /// (`length`, `rho`, `area`, `iy`, `iz`, `e`, `g`, `j`; a planar body, for
@@ -56,7 +62,7 @@ pub fn flex_body(attr: TokenStream, item: TokenStream) -> TokenStream {
     }
 }
 
-const OPTIONS: &str = "shape, elements, reference, formalism, stiffening";
+const OPTIONS: &str = "shape, elements, reference, formalism, stiffening, scene";
 
 /// The attribute's options as written.
 #[derive(Default)]
@@ -65,7 +71,8 @@ struct Args {
     elements: Option<(usize, Expr)>,
     reference: Option<(Reference, LitStr)>,
     formalism: Option<(Formalism, LitStr)>,
-    stiffening: Option<bool>,
+    stiffening: Option<Stiffening>,
+    scene: Option<(usize, LitStr)>,
 }
 
 fn combine(errors: &mut Option<Error>, e: Error) {
@@ -88,7 +95,7 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
             .unwrap_or_else(|| path.to_token_stream().to_string().replace(' ', ""));
         let known = matches!(
             name.as_str(),
-            "shape" | "elements" | "reference" | "formalism" | "stiffening"
+            "shape" | "elements" | "reference" | "formalism" | "stiffening" | "scene"
         );
         if !known {
             combine(
@@ -125,17 +132,37 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
                 args.formalism = Some((f, s));
                 Ok(())
             }),
+            "scene" => string(&value, &name, "\"planar\" or \"spatial\"").and_then(|s| {
+                let d = match s.value().as_str() {
+                    "planar" => 2,
+                    "spatial" => 3,
+                    other => {
+                        return Err(Error::new_spanned(
+                            &s,
+                            format!("unknown scene `{other}`: expected \"planar\" or \"spatial\""),
+                        ))
+                    }
+                };
+                args.scene = Some((d, s));
+                Ok(())
+            }),
             _ => match &value {
                 Expr::Lit(ExprLit {
                     lit: Lit::Bool(b), ..
                 }) => {
-                    args.stiffening = Some(b.value);
+                    args.stiffening = Some(Stiffening::from_bool(b.value));
+                    Ok(())
+                }
+                Expr::Lit(ExprLit {
+                    lit: Lit::Str(st), ..
+                }) if matches!(st.value().as_str(), "second-order" | "fourth-order" | "off") => {
+                    args.stiffening = Some(st.value().parse().expect("checked"));
                     Ok(())
                 }
                 other => Err(Error::new_spanned(
                     other,
                     format!(
-                        "`stiffening` expects `true` or `false`, found `{}`",
+                        "`stiffening` expects `true`, `false`, \"second-order\" or \"fourth-order\", found `{}`",
                         other.to_token_stream()
                     ),
                 )),
@@ -292,21 +319,35 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
     })?;
     let shape_name = shape.name.clone();
     let shape_file = shape.path.clone();
-    let spec = BodySpec::new(shape, elements, reference)
+    let scene_dim = match args.scene {
+        Some((d, lit)) => {
+            if d < shape.dimension {
+                return Err(Error::new_spanned(
+                    lit,
+                    format!("shape `{shape_name}` is spatial: it needs scene = \"spatial\""),
+                ));
+            }
+            d
+        }
+        None => shape.dimension,
+    };
+    let spec = BodySpec::new(shape.clone(), elements, reference)
         .map_err(|e| Error::new_spanned(&elements_expr, e))?
         .with_formalism(formalism);
-    let generated = generate(
-        &spec,
-        Options {
-            stiffening: args.stiffening.unwrap_or(false),
-        },
-    )
-    .map_err(|e| Error::new_spanned(&shape_lit, e))?;
+    let model = KernelModel {
+        shape,
+        formalism,
+        stiffening: args.stiffening.unwrap_or(Stiffening::Off),
+        scene_dim,
+        free_frame: true,
+    };
+    let generated = generate_kernels(&model).map_err(|e| Error::new_spanned(&shape_lit, e))?;
 
-    check_fields(&strukt, &generated.used_params(), &shape_name)?;
+    check_fields(&strukt, &generated.params_used(), &shape_name)?;
 
     let code = body_items(
         &generated,
+        &spec,
         &EmitOptions {
             type_name: strukt.ident.to_string(),
             define_struct: false,
@@ -419,10 +460,14 @@ fn with_generics(code: &str, strukt: &ItemStruct) -> Result<TokenStream2> {
     let ident = &strukt.ident;
     let (_, ty_generics, _) = strukt.generics.split_for_impl();
     let self_ty: Type = syn::parse_quote!(#ident #ty_generics);
+    let plain: Type = syn::parse_quote!(#ident);
     for item in &mut file.items {
         if let Item::Impl(imp) = item {
-            imp.generics = strukt.generics.clone();
-            *imp.self_ty = self_ty.clone();
+            // Only the impls for the user's struct (not its kernel type).
+            if imp.self_ty.to_token_stream().to_string() == plain.to_token_stream().to_string() {
+                imp.generics = strukt.generics.clone();
+                *imp.self_ty = self_ty.clone();
+            }
         }
     }
     Ok(file.into_token_stream())

@@ -16,7 +16,7 @@
 //! the exact derivative with `∂q̈/∂q = β'`, `∂q̇/∂q = γ'`, through `A(θ)`,
 //! `Ḡ(θ)` and the kernels' derivatives.
 
-use crate::body::{Body, BodyForces, BodyMass, BodyState, BodyTangent, BodyWork, BandBuf};
+use crate::body::{BandBuf, Body, BodyForces, BodyMass, BodyState, BodyTangent, BodyWork};
 use crate::error::{Error, Result};
 use crate::force::{ForceElement, ForceEval};
 use crate::joint::RowEval;
@@ -65,8 +65,6 @@ struct BodyScratch {
     frame_rows: bool,
     /// Skip the body entirely (every coordinate prescribed).
     skip: bool,
-    /// Unknown classes of its coordinates (for convergence scales).
-    class: Vec<u32>,
 }
 
 /// The assembled equations of a [`System`].
@@ -231,7 +229,8 @@ impl<'s, B: Body> Assembly<'s, B> {
                     qdd_f: &zeros,
                     frame: [0.0; 9],
                 };
-                b.body.tangent(&st, 0.0, 0.0, false, &mut work, &mut f, &mut t);
+                b.body
+                    .tangent(&st, 0.0, 0.0, false, &mut work, &mut f, &mut t);
                 let mut d = BandBuf::zeros(b.nf, lay.half_bandwidth);
                 d.add_scaled(r.alpha, &mass.m_ff);
                 d.add_scaled(r.beta, &t.k_ff);
@@ -246,7 +245,6 @@ impl<'s, B: Body> Assembly<'s, B> {
                 damping,
                 frame_rows: frame_free,
                 skip: all_fixed,
-                class: Vec::new(),
             });
         }
         let mut mult_slot = Vec::with_capacity(m);
@@ -353,7 +351,15 @@ impl<'s, B: Body> Assembly<'s, B> {
     /// The residual `r = [M q̈ − Q + Φ_qᵀ λ; Φ]` at `(t, q, q̇, q̈, λ)` into
     /// `r` (length `n + m`, coordinates then constraint rows). Rows of
     /// prescribed coordinates hold their reaction forces.
-    pub fn residual(&mut self, t: f64, q: &[f64], v: &[f64], a: &[f64], lam: &[f64], r: &mut [f64]) {
+    pub fn residual(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        lam: &[f64],
+        r: &mut [f64],
+    ) {
         r.iter_mut().for_each(|x| *x = 0.0);
         let n = self.n;
         for i in 0..self.sys.bodies.len() {
@@ -471,7 +477,6 @@ impl<'s, B: Body> Assembly<'s, B> {
         let f0 = o + d + nth;
         let t = &sc.tangent;
         // Elastic rows.
-        let hb = t.k_ff.half_bandwidth();
         for a in 0..nf {
             let ra = slots[f0 + a];
             if ra == Slot::Fixed {
@@ -480,10 +485,6 @@ impl<'s, B: Body> Assembly<'s, B> {
             let (lo, row) = t.k_ff.row(a);
             for (k, val) in row.iter().enumerate() {
                 Self::add(solver, ra, slots[f0 + lo + k], s * val);
-            }
-            let _ = hb;
-            if let Some(dm) = &sc.damping {
-                let _ = dm;
             }
             if sc.frame_rows {
                 let dfp = &t.d_f_frame[a * 9..a * 9 + 9];
@@ -520,7 +521,9 @@ impl<'s, B: Body> Assembly<'s, B> {
             let dfx: [f64; 6] = std::array::from_fn(|r| t.k_ref_f[r * nf + b]);
             map_rows(col, dfx, Vector3::zeros(), [0.0; 4]);
         }
-        let drp = |r: usize, p: &[f64; 9]| -> f64 { (0..9).map(|k| t.d_ref_frame[r * 9 + k] * p[k]).sum() };
+        let drp = |r: usize, p: &[f64; 9]| -> f64 {
+            (0..9).map(|k| t.d_ref_frame[r * 9 + k] * p[k]).sum()
+        };
         for (k, pr) in phi_r.iter().enumerate().take(d) {
             let dfx: [f64; 6] = std::array::from_fn(|r| drp(r, pr));
             map_rows(slots[o + k], dfx, Vector3::zeros(), [0.0; 4]);
@@ -560,7 +563,6 @@ impl<'s, B: Body> Assembly<'s, B> {
     ) {
         self.solver.clear();
         let s = 1.0 / bp;
-        let n = self.n;
         for i in 0..self.sys.bodies.len() {
             if self.bodies[i].skip {
                 continue;
@@ -626,8 +628,6 @@ impl<'s, B: Body> Assembly<'s, B> {
         for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {
             eval_force(fe, fw, q, v, t, Some(gp));
             let nl = fw.eval.q.len();
-            let idx: Vec<usize> = Vec::new();
-            let _ = idx;
             for i in 0..nl {
                 let gi = local_index(&fw.ka, fw.kb.as_ref(), i);
                 for j in 0..nl {
@@ -681,11 +681,18 @@ impl<'s, B: Body> Assembly<'s, B> {
                 }
             }
         }
-        let _ = n;
     }
 
     /// The residual after [`Body::tangent`] filled the body forces.
-    fn residual_from_forces(&mut self, t: f64, q: &[f64], v: &[f64], lam_scaled: &[f64], bp: f64, r: &mut [f64]) {
+    fn residual_from_forces(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        lam_scaled: &[f64],
+        bp: f64,
+        r: &mut [f64],
+    ) {
         r.iter_mut().for_each(|x| *x = 0.0);
         let n = self.n;
         for i in 0..self.sys.bodies.len() {
@@ -760,17 +767,23 @@ impl<'s, B: Body> Assembly<'s, B> {
             let (o, d, nth, nf) = (b.offset, b.d, b.n_theta, b.nf);
             let rot = Rotation::new(&q[o + d..o + d + nth]);
             let sc = &mut self.bodies[i];
-            b.body.mass(&q[o + d + nth..o + d + nth + nf], &mut sc.work, &mut sc.mass);
+            b.body.mass(
+                &q[o + d + nth..o + d + nth + nf],
+                &mut sc.work,
+                &mut sc.mass,
+            );
             // Copy the acceleration blocks into the tangent layout.
             let t_ = &mut sc.tangent;
             t_.clear();
             t_.k_ff.add_scaled(1.0, &sc.mass.m_ff);
             for a in 0..nf {
-                t_.d_f_frame[a * 9..a * 9 + 6].copy_from_slice(&sc.mass.m_f_frame[a * 6..a * 6 + 6]);
+                t_.d_f_frame[a * 9..a * 9 + 6]
+                    .copy_from_slice(&sc.mass.m_f_frame[a * 6..a * 6 + 6]);
             }
             t_.k_ref_f.copy_from_slice(&sc.mass.m_ref_f);
             for r in 0..6 {
-                t_.d_ref_frame[r * 9..r * 9 + 6].copy_from_slice(&sc.mass.m_ref_frame[r * 6..r * 6 + 6]);
+                t_.d_ref_frame[r * 9..r * 9 + 6]
+                    .copy_from_slice(&sc.mass.m_ref_frame[r * 6..r * 6 + 6]);
             }
             let mut phi_r = [[0.0; 9]; 3];
             for (k, pr) in phi_r.iter_mut().enumerate().take(d) {
@@ -929,10 +942,7 @@ impl<'s, B: Body> Assembly<'s, B> {
             e.kinetic += 0.5 * t;
             e.elastic += b.body.elastic_energy(&q[f0..f0 + nf], &mut sc.work);
             let st = v3(&sc.mass.s_t);
-            e.gravity -= self
-                .sys
-                .gravity
-                .dot(&(r * sc.mass.mass() + rot.a * st));
+            e.gravity -= self.sys.gravity.dot(&(r * sc.mass.mass() + rot.a * st));
         }
         for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {
             if matches!(fe, ForceElement::SpringDamper { .. }) {
@@ -1002,7 +1012,14 @@ fn local_index(ka: &MarkerKin, kb: Option<&MarkerKin>, i: usize) -> usize {
     }
 }
 
-fn eval_force(fe: &ForceElement, fw: &mut ForceWork, q: &[f64], v: &[f64], t: f64, gp: Option<f64>) {
+fn eval_force(
+    fe: &ForceElement,
+    fw: &mut ForceWork,
+    q: &[f64],
+    v: &[f64],
+    t: f64,
+    gp: Option<f64>,
+) {
     let ms = fe.markers();
     fw.ka.eval(ms[0], q);
     if let (Some(kb), Some(mb)) = (fw.kb.as_mut(), ms.get(1)) {
@@ -1018,4 +1035,121 @@ fn eval_force(fe: &ForceElement, fw: &mut ForceWork, q: &[f64], v: &[f64], t: f6
         }
     }
     fw.eval.eval(fe, &fw.ka, fw.kb.as_ref(), t, &fw.qd, gp);
+}
+
+impl<B: Body> Assembly<'_, B> {
+    /// The scaled generalized-α residual `[r_dyn/β'; Φ]` with `λ = β' λ̃`.
+    fn scaled_residual(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        lam_scaled: &[f64],
+        bp: f64,
+        r: &mut [f64],
+    ) {
+        let lam: Vec<f64> = lam_scaled.iter().map(|l| l * bp).collect();
+        self.residual(t, q, v, a, &lam, r);
+        for x in r[..self.n].iter_mut() {
+            *x /= bp;
+        }
+    }
+
+    /// Test oracle of the analytic iteration matrix: the largest difference
+    /// between a column of [`Assembly::jacobian`] and the central difference
+    /// of the scaled residual (with `q̇ += γ' δ`, `q̈ += β' δ` for a coordinate
+    /// step `δ`), relative to the column's largest entry; and the unknown
+    /// where it occurs. Allocates (checks only).
+    #[allow(clippy::too_many_arguments)]
+    pub fn iteration_matrix_error(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        lam_scaled: &[f64],
+        bp: f64,
+        gp: f64,
+    ) -> (f64, usize) {
+        let (n, m) = (self.n, self.m);
+        let mut r = vec![0.0; n + m];
+        self.jacobian(t, q, v, a, lam_scaled, bp, gp, &mut r);
+        let nb = self.x_band.len();
+        let nk = self.x_border.len();
+        let (mut yb, mut yk) = (vec![0.0; nb], vec![0.0; nk]);
+        let (mut xb, mut xk) = (vec![0.0; nb], vec![0.0; nk]);
+        let mut worst = (0.0f64, 0usize);
+        let (mut rp, mut rm) = (vec![0.0; n + m], vec![0.0; n + m]);
+        for col in 0..n + m {
+            let slot = if col < n {
+                self.coord_slot[col]
+            } else {
+                Slot::Border(self.mult_slot[col - n])
+            };
+            xb.iter_mut().for_each(|x| *x = 0.0);
+            xk.iter_mut().for_each(|x| *x = 0.0);
+            match slot {
+                Slot::Fixed => continue,
+                Slot::Band(b, i) => {
+                    xb[self.solver.block_range(b as usize).start + i as usize] = 1.0
+                }
+                Slot::Border(g) => xk[g as usize] = 1.0,
+            }
+            self.solver.mul_vec(&xb, &xk, &mut yb, &mut yk);
+            // Analytic column in coordinate/row space.
+            let mut analytic = vec![0.0; n + m];
+            for (c, s) in self.coord_slot.iter().enumerate() {
+                analytic[c] = match *s {
+                    Slot::Band(b, i) => yb[self.solver.block_range(b as usize).start + i as usize],
+                    Slot::Border(g) => yk[g as usize],
+                    Slot::Fixed => 0.0,
+                };
+            }
+            for (k, &g) in self.mult_slot.iter().enumerate() {
+                analytic[n + k] = yk[g as usize];
+            }
+            // Central difference.
+            let (mut qp, mut vp, mut ap, mut lp) =
+                (q.to_vec(), v.to_vec(), a.to_vec(), lam_scaled.to_vec());
+            let e;
+            if col < n {
+                e = 1e-6 * (1.0 + q[col].abs());
+                qp[col] += e;
+                vp[col] += gp * e;
+                ap[col] += bp * e;
+            } else {
+                e = 1e-6 * (1.0 + lam_scaled[col - n].abs());
+                lp[col - n] += e;
+            }
+            self.scaled_residual(t, &qp, &vp, &ap, &lp, bp, &mut rp);
+            let (mut qm, mut vm, mut am, mut lm) =
+                (q.to_vec(), v.to_vec(), a.to_vec(), lam_scaled.to_vec());
+            if col < n {
+                qm[col] -= e;
+                vm[col] -= gp * e;
+                am[col] -= bp * e;
+            } else {
+                lm[col - n] -= e;
+            }
+            self.scaled_residual(t, &qm, &vm, &am, &lm, bp, &mut rm);
+            let mut scale = 0.0f64;
+            let mut diff = 0.0f64;
+            for i in 0..n + m {
+                if i < n && self.coord_slot[i] == Slot::Fixed {
+                    continue;
+                }
+                let fd = (rp[i] - rm[i]) / (2.0 * e);
+                scale = scale.max(fd.abs()).max(analytic[i].abs());
+                diff = diff.max((fd - analytic[i]).abs());
+            }
+            let rel = if scale > 0.0 { diff / scale } else { 0.0 };
+            if rel > worst.0 {
+                worst = (rel, col);
+            }
+        }
+        // Restore a factorizable state for callers that go on.
+        self.jacobian(t, q, v, a, lam_scaled, bp, gp, &mut r);
+        worst
+    }
 }

@@ -15,12 +15,14 @@ pub enum Error {
     #[error("invalid input: {0}")]
     InvalidInput(String),
     /// The (augmented) system matrix could not be factorized.
-    #[error("singular {what} at t = {t} s: check for redundant or missing constraints and for coordinates without inertia (a `free` reference body, a body with no mass, a lumped body whose nodes have no rotary inertia)")]
+    #[error("singular {what} at t = {t} s ({detail}): check for redundant or missing constraints and for coordinates without inertia (a `free` reference body, a body with no mass, a lumped body whose nodes have no rotary inertia)")]
     Singular {
         /// Which matrix.
         what: &'static str,
         /// Time.
         t: f64,
+        /// Where the factorization failed.
+        detail: String,
     },
     /// Newton iterations of an implicit step failed.
     #[error("step {step} at t = {t:.6} s did not converge: residual {residual:.3e} after {iterations} Newton iterations (dt = {dt:e} s); try a smaller step or more numerical damping (lower rho_inf)")]

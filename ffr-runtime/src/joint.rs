@@ -177,7 +177,14 @@ pub(crate) fn eval_vec(terms: &[Term], ka: &MarkerKin, kb: &MarkerKin, t: f64, o
 
 /// `Σ_i Σ_j w_i w_j ∂²V/∂q_i∂q_j` … contracted forms of the second
 /// derivatives of `V` (block-diagonal over the two markers).
-pub(crate) fn d2_vec(terms: &[Term], ka: &MarkerKin, kb: &MarkerKin, t: f64, i: usize, j: usize) -> Vector3<f64> {
+pub(crate) fn d2_vec(
+    terms: &[Term],
+    ka: &MarkerKin,
+    kb: &MarkerKin,
+    t: f64,
+    i: usize,
+    j: usize,
+) -> Vector3<f64> {
     let na = ka.len();
     let (side, ii, jj) = match (i < na, j < na) {
         (true, true) => (Side::A, i, j),
@@ -233,7 +240,15 @@ impl RowEval {
     }
 
     /// `∂²Φ/∂q_i∂q_j` (after [`RowEval::eval`]).
-    pub fn hess(&self, row: &Row, ka: &MarkerKin, kb: &MarkerKin, t: f64, i: usize, j: usize) -> f64 {
+    pub fn hess(
+        &self,
+        row: &Row,
+        ka: &MarkerKin,
+        kb: &MarkerKin,
+        t: f64,
+        i: usize,
+        j: usize,
+    ) -> f64 {
         d2_vec(&row.v1, ka, kb, t, i, j).dot(&self.v2.val)
             + self.v1.d[i].dot(&self.v2.d[j])
             + self.v1.d[j].dot(&self.v2.d[i])

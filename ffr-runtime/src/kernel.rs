@@ -16,12 +16,13 @@
 //! clear their buffers before a call.
 
 use ffr_spec::{ElementCoordinate, Formalism, Param, Params, Reference, Stiffening};
+use std::borrow::Cow;
 
 /// What a set of element kernels was generated for.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct KernelInfo {
     /// Shape name.
-    pub shape: &'static str,
+    pub shape: Cow<'static, str>,
     /// Shape dimension: 2 (planar, x–y) or 3.
     pub dim: usize,
     /// Scene dimension the kernels were generated for: 2 (frame motion in
@@ -30,7 +31,7 @@ pub struct KernelInfo {
     /// Element coordinates `n_e`.
     pub n_local: usize,
     /// The element's coordinates (node 0/1 and kind), in kernel order.
-    pub coordinates: &'static [ElementCoordinate],
+    pub coordinates: Cow<'static, [ElementCoordinate]>,
     /// Inertia formalism.
     pub formalism: Formalism,
     /// Stiffening model.
@@ -41,7 +42,10 @@ pub struct KernelInfo {
     /// Length of the coefficient array.
     pub n_coefficients: usize,
     /// Parameters the kernels read (besides the derived element length).
-    pub params_used: &'static [Param],
+    pub params_used: Cow<'static, [Param]>,
+    /// Scratch space (f64 values) a call needs from its caller (0 for
+    /// compiled kernels; registers of a tape).
+    pub scratch: usize,
 }
 
 /// Inputs of a residual or tangent kernel.
@@ -116,22 +120,30 @@ pub trait ElementKernels: Send + Sync {
     fn coefficients(&self, params: &Params, l: f64, c: &mut [f64]);
 
     /// `S_t` and the acceleration-linear blocks at `q`.
-    fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut MassOut);
+    fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut MassOut, scratch: &mut [f64]);
 
     /// `f_r`, `f_θ`, `f_e` (only with `info().free_frame`).
-    fn residual(&self, c: &[f64], x: &KernelInput, out: &mut ResidualOut) {
-        let _ = (c, x, out);
+    fn residual(&self, c: &[f64], x: &KernelInput, out: &mut ResidualOut, scratch: &mut [f64]) {
+        let _ = (c, x, out, scratch);
         unreachable!("kernels of `{}` were generated without the reference rows (prescribed frame motion only)", self.info().shape)
     }
 
     /// The residual and its derivatives (only with `info().free_frame`).
-    fn tangent(&self, c: &[f64], x: &KernelInput, bp: f64, gp: f64, out: &mut TangentOut) {
-        let _ = (c, x, bp, gp, out);
+    fn tangent(
+        &self,
+        c: &[f64],
+        x: &KernelInput,
+        bp: f64,
+        gp: f64,
+        out: &mut TangentOut,
+        scratch: &mut [f64],
+    ) {
+        let _ = (c, x, bp, gp, out, scratch);
         unreachable!("kernels of `{}` were generated without the reference rows (prescribed frame motion only)", self.info().shape)
     }
 
     /// `f_e` only (frame motion prescribed).
-    fn residual_elastic(&self, c: &[f64], x: &KernelInput, f_e: &mut [f64]);
+    fn residual_elastic(&self, c: &[f64], x: &KernelInput, f_e: &mut [f64], scratch: &mut [f64]);
 
     /// `f_e` and `β' ∂f_e/∂q̈ + γ' ∂f_e/∂q̇ + ∂f_e/∂q` (frame motion prescribed).
     fn tangent_elastic(
@@ -142,19 +154,20 @@ pub trait ElementKernels: Send + Sync {
         gp: f64,
         f_e: &mut [f64],
         k_ee: &mut [f64],
+        scratch: &mut [f64],
     );
 
     /// Elastic energy `½ qᵀ K q + U_nl(q)` of the element.
-    fn energy(&self, c: &[f64], q: &[f64]) -> f64;
+    fn energy(&self, c: &[f64], q: &[f64], scratch: &mut [f64]) -> f64;
 
     /// The element's invariants at offset `x₀`, flat:
     /// `[m, S_t0 (3), S̄ (3 n), S̄_kl (9 n², k, l, a, b), Ī_kl (9 n, k, l, a),
     /// Θ_kl (9), m_ff (n²), K_ff (n²)]`.
-    fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64]);
+    fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64], scratch: &mut [f64]);
 
     /// `S(ξ)` (3 × n) and the section rotation `ψ(ξ) = ½ ∇ × u` (3 × n) on
     /// the element's centre line.
-    fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64]);
+    fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64], scratch: &mut [f64]);
 }
 
 /// A body generated with a fixed mesh (`#[flex_body]`, `Builder::body`):
@@ -178,3 +191,53 @@ pub trait CompiledBody {
 }
 
 pub use ffr_spec::invariant_layout;
+
+impl<K: ElementKernels + ?Sized> ElementKernels for Box<K> {
+    fn info(&self) -> &KernelInfo {
+        (**self).info()
+    }
+    fn coefficients(&self, params: &Params, l: f64, c: &mut [f64]) {
+        (**self).coefficients(params, l, c)
+    }
+    fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut MassOut, s: &mut [f64]) {
+        (**self).mass(c, x0, q, out, s)
+    }
+    fn residual(&self, c: &[f64], x: &KernelInput, out: &mut ResidualOut, s: &mut [f64]) {
+        (**self).residual(c, x, out, s)
+    }
+    fn tangent(
+        &self,
+        c: &[f64],
+        x: &KernelInput,
+        bp: f64,
+        gp: f64,
+        out: &mut TangentOut,
+        s: &mut [f64],
+    ) {
+        (**self).tangent(c, x, bp, gp, out, s)
+    }
+    fn residual_elastic(&self, c: &[f64], x: &KernelInput, f_e: &mut [f64], s: &mut [f64]) {
+        (**self).residual_elastic(c, x, f_e, s)
+    }
+    fn tangent_elastic(
+        &self,
+        c: &[f64],
+        x: &KernelInput,
+        bp: f64,
+        gp: f64,
+        f_e: &mut [f64],
+        k_ee: &mut [f64],
+        s: &mut [f64],
+    ) {
+        (**self).tangent_elastic(c, x, bp, gp, f_e, k_ee, s)
+    }
+    fn energy(&self, c: &[f64], q: &[f64], s: &mut [f64]) -> f64 {
+        (**self).energy(c, q, s)
+    }
+    fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64], s: &mut [f64]) {
+        (**self).element_invariants(c, x0, out, s)
+    }
+    fn point_shape(&self, c: &[f64], xi: f64, sh: &mut [f64], psi: &mut [f64], s: &mut [f64]) {
+        (**self).point_shape(c, xi, sh, psi, s)
+    }
+}

@@ -1,41 +1,68 @@
 //! FFR dynamics of flexible multibody systems (floating frame of reference,
-//! Shabana's notation; see the project's theory sheet).
+//! Shabana's notation; theory in the repository's `docs/theory.md`).
 //!
-//! - [`body`]: what a body provides ([`FlexBody`], [`Invariants`]).
-//! - [`model`]: one body's mass matrix, quadratic velocity vector, forces, energy.
-//! - [`system`]: bodies, joints ([`joint`]), markers ([`marker`]), force elements ([`force`]), drivers ([`driver`]).
+//! - [`kernel`]: what generated code provides per element ([`ElementKernels`]).
+//! - [`body`]: a body's generalized forces, derivatives and mass blocks
+//!   ([`Body`]); [`nodal`]: bodies assembled from element kernels;
+//!   [`rigid`]: rigid bodies.
+//! - [`system`]: bodies, prescribed coordinates, joints ([`joint`]) at
+//!   markers ([`marker`]), force elements ([`force`]), drivers ([`driver`]).
+//! - [`assembly`]: residual and analytic iteration matrix in the structure of
+//!   [`linalg::BorderedSystem`] (banded elastic blocks bordered by frame and
+//!   constraint rows).
 //! - [`integrator`]: generalized-α (index 3) and RK4–Baumgarte.
-//! - [`scenes`]: benchmark scenes (spin-up, pendulum, free-floating body, slider-crank).
 
+pub mod assembly;
 pub mod body;
 pub mod driver;
 pub mod error;
 pub mod force;
 pub mod integrator;
 pub mod joint;
+pub mod kernel;
 pub mod linalg;
 pub mod marker;
-pub mod model;
+pub mod nodal;
 pub mod rigid;
 pub mod rotation;
-pub mod scenes;
 pub mod system;
 
+pub use assembly::Assembly;
 pub use body::{
-    CompiledBody, FlexBody, InertiaTerms, InvariantBody, Invariants, MassBlocks, Params,
+    BandBuf, Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork, Invariants,
+    PointShape,
 };
 pub use driver::Driver;
 pub use error::{Error, Result};
+pub use ffr_spec as spec;
 pub use force::ForceElement;
-pub use integrator::{GeneralizedAlpha, Integrator, Rk4Baumgarte, StepView, Summary, Trajectory};
+pub use integrator::{GeneralizedAlpha, Integrator, Rk4Baumgarte, State, StepView, Summary};
 pub use joint::Constraint;
+pub use kernel::{
+    CompiledBody, ElementKernels, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut,
+};
 pub use marker::{BodyId, Marker};
-pub use model::{BodyModel, Rayleigh};
 pub use nalgebra;
+pub use nodal::KernelBody;
 pub use rigid::RigidBody;
-pub use system::{ConstraintEval, Energy, Pose, State, System};
+pub use system::{BodyEntry, Pose, Rayleigh, System};
 
-#[cfg(test)]
-mod testing;
-#[cfg(test)]
-mod tests;
+/// Energy of a configuration (J).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Energy {
+    /// `½ q̇ᵀ M q̇`.
+    pub kinetic: f64,
+    /// `½ q_fᵀ K_ff q_f + U_nl`.
+    pub elastic: f64,
+    /// `−g · (m R + A S_t)` summed over bodies.
+    pub gravity: f64,
+    /// `½ k (l − l₀)²` summed over springs.
+    pub springs: f64,
+}
+
+impl Energy {
+    /// Total mechanical energy.
+    pub fn total(&self) -> f64 {
+        self.kinetic + self.elastic + self.gravity + self.springs
+    }
+}

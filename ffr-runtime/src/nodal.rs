@@ -37,12 +37,13 @@ pub struct KernelBody<K> {
 /// Offsets of the scratch regions of one element evaluation.
 struct Scratch {
     ne: usize,
+    kernel: usize,
 }
 
 impl Scratch {
     fn len(&self) -> usize {
         let n = self.ne;
-        4 * n + n * n + 9 * n + 6 * n + 54 + 6
+        4 * n + n * n + 9 * n + 6 * n + 54 + 6 + self.kernel
     }
 }
 
@@ -50,11 +51,11 @@ impl<K: ElementKernels> KernelBody<K> {
     /// `elements` equal elements of the kernels' shape from `x = 0` to
     /// `params.length`, with reference condition `reference`.
     pub fn new(kernels: K, params: Params, elements: usize, reference: Reference) -> Result<Self> {
-        let info = *kernels.info();
+        let info = kernels.info().clone();
         params
-            .validate_only(info.params_used)
+            .validate_only(&info.params_used)
             .map_err(|e| Error::InvalidInput(e.to_string()))?;
-        let mesh = Mesh::new(info.coordinates, info.dim, elements, reference)
+        let mesh = Mesh::new(&info.coordinates, info.dim, elements, reference)
             .map_err(|e| Error::InvalidInput(e.to_string()))?;
         let ne = info.n_local;
         let maps: Vec<usize> = (0..elements)
@@ -153,7 +154,14 @@ impl<K: ElementKernels> Body for KernelBody<K> {
 
     fn work(&self) -> BodyWork {
         BodyWork {
-            buf: vec![0.0; Scratch { ne: self.ne }.len()],
+            buf: vec![
+                0.0;
+                Scratch {
+                    ne: self.ne,
+                    kernel: self.kernels.info().scratch
+                }
+                .len()
+            ],
         }
     }
 
@@ -169,7 +177,8 @@ impl<K: ElementKernels> Body for KernelBody<K> {
         let (qd, rest) = rest.split_at_mut(ne);
         let (qdd, rest) = rest.split_at_mut(ne);
         let (fe, rest) = rest.split_at_mut(ne);
-        let (fr6, _) = rest.split_at_mut(6);
+        let (_, rest) = rest.split_at_mut(ne * ne + 15 * ne + 60);
+        let ks = rest;
         for e in 0..self.elements {
             let map = self.map(e);
             gather(q, s.q_f, map);
@@ -193,17 +202,17 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                         f_th: &mut f_th,
                         f_e: fe,
                     },
+                    ks,
                 );
                 for k in 0..3 {
                     out.f_r[k] += f_r[k];
                     out.f_th[k] += f_th[k];
                 }
             } else {
-                self.kernels.residual_elastic(&self.coef, &x, fe);
+                self.kernels.residual_elastic(&self.coef, &x, fe, ks);
             }
             scatter(fe, &mut out.f_f, map);
         }
-        let _ = fr6;
     }
 
     fn tangent(
@@ -231,7 +240,8 @@ impl<K: ElementKernels> Body for KernelBody<K> {
         let (kee, rest) = rest.split_at_mut(ne * ne);
         let (def, rest) = rest.split_at_mut(9 * ne);
         let (kre, rest) = rest.split_at_mut(6 * ne);
-        let (drf, _) = rest.split_at_mut(54);
+        let (drf, rest) = rest.split_at_mut(54);
+        let (_, ks) = rest.split_at_mut(6);
         for e in 0..self.elements {
             let map = self.map(e);
             gather(q, s.q_f, map);
@@ -265,6 +275,7 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                         k_ref_e: kre,
                         d_ref_frame: drf,
                     },
+                    ks,
                 );
                 for k in 0..3 {
                     out.f_r[k] += f_r[k];
@@ -286,7 +297,7 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                 }
             } else {
                 self.kernels
-                    .tangent_elastic(&self.coef, &x, bp, gp, fe, kee);
+                    .tangent_elastic(&self.coef, &x, bp, gp, fe, kee, ks);
             }
             scatter(fe, &mut out.f_f, map);
             for (a, &ia) in map.iter().enumerate() {
@@ -310,7 +321,8 @@ impl<K: ElementKernels> Body for KernelBody<K> {
         let (mee, rest) = rest.split_at_mut(ne * ne);
         let (mef, rest) = rest.split_at_mut(9 * ne);
         let (mre, rest) = rest.split_at_mut(6 * ne);
-        let (mrf, _) = rest.split_at_mut(54);
+        let (mrf, rest) = rest.split_at_mut(54);
+        let (_, ks) = rest.split_at_mut(6);
         for e in 0..self.elements {
             let map = self.map(e);
             gather(q, q_f, map);
@@ -330,6 +342,7 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                     m_ref_e: mre,
                     m_ref_frame: &mut mrf[..36],
                 },
+                ks,
             );
             for k in 0..3 {
                 out.s_t[k] += s_t[k];
@@ -358,11 +371,12 @@ impl<K: ElementKernels> Body for KernelBody<K> {
 
     fn elastic_energy(&self, q_f: &[f64], w: &mut BodyWork) -> f64 {
         let ne = self.ne;
-        let q = &mut w.buf[..ne];
+        let (q, rest) = w.buf.split_at_mut(ne);
+        let (_, ks) = rest.split_at_mut(3 * ne + ne * ne + 15 * ne + 60);
         let mut e = 0.0;
         for el in 0..self.elements {
             gather(q, q_f, self.map(el));
-            e += self.kernels.energy(&self.coef, q);
+            e += self.kernels.energy(&self.coef, q, ks);
         }
         e
     }
@@ -371,11 +385,12 @@ impl<K: ElementKernels> Body for KernelBody<K> {
         let (ne, nf) = (self.ne, self.layout.nf);
         let (off, len) = invariant_layout(ne);
         let mut buf = vec![0.0; len];
+        let mut ks = vec![0.0; self.kernels.info().scratch];
         let mut inv = Invariants::zeros(self.layout.dim, nf);
         for e in 0..self.elements {
             buf.iter_mut().for_each(|x| *x = 0.0);
             self.kernels
-                .element_invariants(&self.coef, self.x0[e], &mut buf);
+                .element_invariants(&self.coef, self.x0[e], &mut buf, &mut ks);
             let map = self.map(e);
             inv.mass += buf[off[0]];
             for k in 0..3 {
@@ -427,7 +442,9 @@ impl<K: ElementKernels> Body for KernelBody<K> {
         let ne = self.ne;
         let mut s = vec![0.0; 3 * ne];
         let mut psi = vec![0.0; 3 * ne];
-        self.kernels.point_shape(&self.coef, xi, &mut s, &mut psi);
+        let mut ks = vec![0.0; self.kernels.info().scratch];
+        self.kernels
+            .point_shape(&self.coef, xi, &mut s, &mut psi, &mut ks);
         let mut entries = Vec::new();
         for (a, &ia) in self.map(e).iter().enumerate() {
             if ia == REMOVED {

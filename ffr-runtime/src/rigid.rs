@@ -141,7 +141,8 @@ impl Body for RigidBody {
         Self::put(d, 9, 0, 0, &(Matrix3::identity() * self.mass));
         Self::put(d, 9, 0, 3, &(-skew(&st)));
         // ∂(ω × (ω × S))/∂ω = (ω·S) I + ω Sᵀ − 2 S ωᵀ.
-        let dw = Matrix3::identity() * om.dot(&st) + om * st.transpose() - st * om.transpose() * 2.0;
+        let dw =
+            Matrix3::identity() * om.dot(&st) + om * st.transpose() - st * om.transpose() * 2.0;
         Self::put(d, 9, 0, 6, &dw);
         Self::put(d, 9, 3, 0, &skew(&st));
         Self::put(d, 9, 3, 3, &jo);

@@ -333,9 +333,10 @@ impl<B: Body> System<B> {
     /// the body's axes.
     pub fn point(&self, b: BodyId, x: f64) -> Result<Marker> {
         let e = self.entry(b)?;
-        let shape = e.body.point_shape(x).map_err(|err| {
-            Error::InvalidInput(format!("body `{}`: {err}", e.name))
-        })?;
+        let shape = e
+            .body
+            .point_shape(x)
+            .map_err(|err| Error::InvalidInput(format!("body `{}`: {err}", e.name)))?;
         Ok(Marker::point(b, shape))
     }
 
@@ -358,7 +359,13 @@ impl<B: Body> System<B> {
                 crate::marker::MAX_POINT_DOFS
             )));
         }
-        if !m.shape.u0.iter().chain(m.axes.iter()).all(|x| x.is_finite()) {
+        if !m
+            .shape
+            .u0
+            .iter()
+            .chain(m.axes.iter())
+            .all(|x| x.is_finite())
+        {
             return Err(Error::InvalidInput("non-finite marker".into()));
         }
         Ok(())
@@ -388,7 +395,12 @@ impl<B: Body> System<B> {
     }
 
     /// Prescribe body coordinate `index` (0-based within the body) as `f(t)`.
-    pub fn prescribe_coordinate(&mut self, body: BodyId, index: usize, driver: Driver) -> Result<()> {
+    pub fn prescribe_coordinate(
+        &mut self,
+        body: BodyId,
+        index: usize,
+        driver: Driver,
+    ) -> Result<()> {
         let e = self.entry(body)?;
         if index >= e.n_coords() {
             return Err(Error::InvalidInput(format!(
@@ -440,7 +452,12 @@ impl<B: Body> System<B> {
             let c = self.q0[o + i];
             self.prescribe_coordinate(body, i, Driver::constant(c))?;
         }
-        let e0 = [self.q0[o + 3], self.q0[o + 4], self.q0[o + 5], self.q0[o + 6]];
+        let e0 = [
+            self.q0[o + 3],
+            self.q0[o + 4],
+            self.q0[o + 5],
+            self.q0[o + 6],
+        ];
         // q_z(f) = (cos f/2, 0, 0, sin f/2); (c, 0, 0, s) ⊗ (w, x, y, z) =
         // (c w − s z, c x − s y, c y + s x, c z + s w).
         let comps: [[f64; 2]; 4] = [

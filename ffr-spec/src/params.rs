@@ -184,7 +184,12 @@ impl Params {
             if !used.contains(p) {
                 continue;
             }
-            let ok = v.is_finite() && if p.must_be_positive() { v > 0.0 } else { v >= 0.0 };
+            let ok = v.is_finite()
+                && if p.must_be_positive() {
+                    v > 0.0
+                } else {
+                    v >= 0.0
+                };
             if !ok {
                 return Err(ParamError {
                     param: *p,
@@ -205,7 +210,11 @@ mod tests {
         let p = Params::from_array([1.0, 7850.0, 1e-4, 0.0, 8e-10, 2.1e11, 0.0, 0.0]);
         assert!(p.validate().is_ok());
         let bad = Params { area: -1e-4, ..p };
-        assert!(bad.validate().unwrap_err().to_string().starts_with("parameter `area`"));
+        assert!(bad
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .starts_with("parameter `area`"));
         let bad = Params { iz: -1.0, ..p };
         assert!(bad.validate().unwrap_err().to_string().contains("≥ 0"));
         let bad = Params { e: f64::NAN, ..p };

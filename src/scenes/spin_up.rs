@@ -1,0 +1,258 @@
+//! The spin-up beam of Kane, Ryan & Banerjee (1987): a cantilever clamped
+//! to a hub whose angle is prescribed,
+//! `θ(t) = (ω_s/T)(t²/2 + (T/2π)²(cos(2πt/T) − 1))` for `t < T`,
+//! `ω_s (t − T/2)` after (theory: `docs/theory.md`).
+//!
+//! Planar: a beam2 body in a planar scene, frame origin fixed, frame angle
+//! `θ(t)`. Spatial: a beam3 body in a spatial scene, its Euler parameters
+//! prescribed as the rotation `θ(t)` about global z. In both the frame motion
+//! is prescribed, so the body runs its elastic kernels only.
+
+use crate::compiled::{BeamSpec, Kernels};
+use crate::runtime::spec::{Formalism, Params, Reference, Stiffening};
+use crate::runtime::{
+    Driver, Error as RtError, GeneralizedAlpha, Integrator, KernelBody, Pose, System,
+};
+use std::ops::ControlFlow;
+
+/// Beam data of the benchmark (SI units); the section's torsion data (not
+/// given by the benchmark) are those of a solid circle of the same area.
+pub const KRB: Params = Params {
+    length: 8.0,
+    rho: 2766.67,
+    area: 7.2968e-5,
+    iy: 8.2189e-9,
+    iz: 8.2189e-9,
+    e: 6.8952e10,
+    g: 2.6e10,
+    j: 1.6438e-8,
+};
+
+/// Settings of a spin-up run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpinUp {
+    /// Final spin rate `ω_s` (rad/s).
+    pub omega_s: f64,
+    /// Ramp time `T` (s), 15 in the benchmark.
+    pub t_ramp: f64,
+    /// End time (s).
+    pub t_end: f64,
+    /// Step (s).
+    pub dt: f64,
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Number of elements.
+    pub elements: usize,
+    /// Stiffening model.
+    pub stiffening: Stiffening,
+    /// Inertia formalism.
+    pub formalism: Formalism,
+    /// Spatial model (beam3, Euler parameters) instead of planar (beam2).
+    pub spatial: bool,
+    /// Beam parameters.
+    pub params: Params,
+    /// Run on tapes instead of the compiled kernels (comparisons).
+    pub force_tape: bool,
+}
+
+impl SpinUp {
+    /// `ω_s`, `T = 15 s`, `t_end = 20 s`, `dt = 0.01 s`, generalized-α
+    /// `ρ∞ = 0.8`, 8 elements, fourth-order stiffening, planar.
+    pub fn new(omega_s: f64) -> Self {
+        Self {
+            omega_s,
+            t_ramp: 15.0,
+            t_end: 20.0,
+            dt: 0.01,
+            integrator: Integrator::GeneralizedAlpha(GeneralizedAlpha::with_rho_inf(0.8)),
+            elements: 8,
+            stiffening: Stiffening::FourthOrder,
+            formalism: Formalism::Consistent,
+            spatial: false,
+            params: KRB,
+            force_tape: false,
+        }
+    }
+
+    /// The body's description.
+    pub fn beam(&self) -> BeamSpec {
+        BeamSpec {
+            shape: if self.spatial { "beam3" } else { "beam2" }.into(),
+            elements: self.elements,
+            reference: Reference::Clamped,
+            formalism: self.formalism,
+            stiffening: self.stiffening,
+            scene_dim: None,
+            params: self.params,
+            force_tape: self.force_tape,
+        }
+    }
+
+    /// The hub angle driver.
+    pub fn driver(&self) -> Driver {
+        Driver::spin_up(self.omega_s, self.t_ramp)
+    }
+}
+
+/// Why a run stopped early.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Divergence {
+    /// Time (s).
+    pub t: f64,
+    /// What happened (tip beyond the beam length, or the integrator's error).
+    pub reason: String,
+}
+
+/// Tip displacement history of a spin-up run, in the rotating hub (body) frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SpinUpResult {
+    /// Times (s).
+    pub t: Vec<f64>,
+    /// Tip displacement along the hub-frame x axis (m).
+    pub tip_axial: Vec<f64>,
+    /// Tip displacement along the hub-frame y axis (m; negative = lagging).
+    pub tip_transverse: Vec<f64>,
+    /// Tip displacement along the hub-frame z axis (m; spatial model).
+    pub tip_lateral: Vec<f64>,
+    /// Set if the run diverged (|tip| > L) or the integrator failed.
+    pub diverged: Option<Divergence>,
+    /// Steps taken.
+    pub steps: usize,
+    /// Newton iterations.
+    pub newton_iterations: usize,
+    /// Iteration-matrix factorizations.
+    pub jacobians: usize,
+    /// Wall time of the simulation alone (s).
+    pub wall: f64,
+    /// `compiled` or `tape`.
+    pub kernels: &'static str,
+}
+
+impl SpinUpResult {
+    /// `(t, value)` of the most negative transverse tip deflection.
+    pub fn min_transverse(&self) -> Option<(f64, f64)> {
+        self.t
+            .iter()
+            .zip(&self.tip_transverse)
+            .map(|(a, b)| (*a, *b))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+    /// Largest `|tip_transverse|` for `t ≥ t_from`.
+    pub fn max_abs_transverse_after(&self, t_from: f64) -> f64 {
+        self.t
+            .iter()
+            .zip(&self.tip_transverse)
+            .filter(|(t, _)| **t >= t_from)
+            .map(|(_, v)| v.abs())
+            .fold(0.0, f64::max)
+    }
+    /// Linear interpolation of the transverse deflection at `t`.
+    pub fn transverse_at(&self, t: f64) -> Option<f64> {
+        interpolate(&self.t, &self.tip_transverse, t)
+    }
+}
+
+/// Linear interpolation of samples `(ts, ys)` at `t` (`None` outside).
+pub fn interpolate(ts: &[f64], ys: &[f64], t: f64) -> Option<f64> {
+    if ts.is_empty() || t < ts[0] || t > *ts.last()? {
+        return None;
+    }
+    let i = ts.partition_point(|&x| x < t);
+    if i == 0 {
+        return ys.first().copied();
+    }
+    let (t0, t1) = (ts[i - 1], ts[i]);
+    let w = (t - t0) / (t1 - t0);
+    Some(ys[i - 1] * (1.0 - w) + ys[i] * w)
+}
+
+/// The spin-up system: the beam clamped to the hub (its frame origin fixed
+/// at the global origin) with the hub angle prescribed.
+pub fn system(
+    cfg: &SpinUp,
+) -> Result<(System<KernelBody<Kernels>>, KernelBody<Kernels>), Box<dyn std::error::Error>> {
+    if !(cfg.omega_s.is_finite() && cfg.t_ramp > 0.0 && cfg.t_ramp.is_finite()) {
+        return Err(format!(
+            "spin-up needs a finite ω_s and T > 0 (got {}, {})",
+            cfg.omega_s, cfg.t_ramp
+        )
+        .into());
+    }
+    let body = cfg.beam().body()?;
+    let probe = cfg.beam().body()?;
+    let mut sys = if cfg.spatial {
+        System::spatial()
+    } else {
+        System::planar()
+    };
+    let b = sys.add_body("beam", body, Pose::identity(sys.dim()))?;
+    sys.prescribe_rotation_about_z(b, cfg.driver())?;
+    Ok((sys, probe))
+}
+
+/// Run the spin-up: the tip is the point at `x = L` of the beam's axis.
+/// Divergence (|tip| > L) or an integrator failure stops the run and is
+/// reported in [`SpinUpResult::diverged`]; bad input is an `Err`.
+pub fn run(cfg: &SpinUp) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
+    let (sys, probe) = system(cfg)?;
+    let length = cfg.params.length;
+    let tip = crate::runtime::Body::point_shape(&probe, length)?;
+    let fo = sys.bodies()[0].f_offset();
+    let mut res = SpinUpResult {
+        kernels: probe.kernels().path(),
+        ..SpinUpResult::default()
+    };
+    let n_samples = (cfg.t_end / cfg.dt).ceil() as usize + 1;
+    res.t.reserve(n_samples);
+    res.tip_axial.reserve(n_samples);
+    res.tip_transverse.reserve(n_samples);
+    if cfg.spatial {
+        res.tip_lateral.reserve(n_samples);
+    }
+    let start = std::time::Instant::now();
+    let run = sys.simulate(cfg.t_end, cfg.dt, &cfg.integrator, |v| {
+        let q = &v.state.q;
+        let mut u = [0.0; 3];
+        for (dof, s, _) in &tip.entries {
+            for k in 0..3 {
+                u[k] += s[k] * q[fo + dof];
+            }
+        }
+        res.t.push(v.state.t);
+        res.tip_axial.push(u[0]);
+        res.tip_transverse.push(u[1]);
+        if cfg.spatial {
+            res.tip_lateral.push(u[2]);
+        }
+        let norm = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
+        if !(norm <= length) {
+            res.diverged = Some(Divergence {
+                t: v.state.t,
+                reason: format!("tip displacement {norm:.3} m exceeds the beam length {length} m"),
+            });
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    });
+    res.wall = start.elapsed().as_secs_f64();
+    match run {
+        Ok(s) => {
+            res.steps = s.steps;
+            res.newton_iterations = s.newton_iterations;
+            res.jacobians = s.jacobians;
+        }
+        Err(
+            e @ (RtError::NoConvergence { .. }
+            | RtError::NonFinite { .. }
+            | RtError::Unstable { .. }
+            | RtError::Singular { .. }),
+        ) => {
+            res.diverged = Some(Divergence {
+                t: res.t.last().copied().unwrap_or(0.0),
+                reason: e.to_string(),
+            });
+        }
+        Err(e) => return Err(e.into()),
+    }
+    Ok(res)
+}
