@@ -1,6 +1,6 @@
 //! Independent floating-point reference for FFR beam bodies.
 //!
-//! Hand-coded Euler–Bernoulli shape functions (see `ffr-theory.md`) integrated
+//! Hand-coded Euler–Bernoulli shape functions (see `docs/theory.md`) integrated
 //! by Gauss–Legendre quadrature in `f64`. Used only to cross-check the exact
 //! symbolic generator; it shares no code with it.
 
