@@ -1,6 +1,6 @@
 //! Independent floating-point reference for FFR beam bodies.
 //!
-//! Hand-coded Euler–Bernoulli shape functions (see `ffr-theory.md`) integrated
+//! Hand-coded Euler–Bernoulli shape functions (see `docs/theory.md`) integrated
 //! by Gauss–Legendre quadrature in `f64`. Used only to cross-check the exact
 //! symbolic generator; it shares no code with it.
 
@@ -141,6 +141,16 @@ fn hermite_d(xi: f64) -> [f64; 4] {
         1.0 - 4.0 * xi + 3.0 * x2,
         6.0 * xi - 6.0 * x2,
         -2.0 * xi + 3.0 * x2,
+    ]
+}
+
+/// Hermite second derivatives `d²[N1, N2, N3, N4]/dξ²`.
+fn hermite_dd(xi: f64) -> [f64; 4] {
+    [
+        -6.0 + 12.0 * xi,
+        -4.0 + 6.0 * xi,
+        6.0 - 12.0 * xi,
+        -2.0 + 6.0 * xi,
     ]
 }
 
@@ -302,6 +312,35 @@ impl Shape {
             }
         }
         (a, b, c)
+    }
+
+    /// Centerline second-derivative rows `(b2, c2)` with `v'' = b2·q_e`, `w'' = c2·q_e`
+    /// (`d²/dx² = (1/l²) d²/dξ²` of the same interpolation as [`Shape::centerline_grad`]);
+    /// `c2 = 0` for beam2.
+    pub fn centerline_curv(self, l: f64, xi: f64) -> (DVector<f64>, DVector<f64>) {
+        let [d1, d2, d3, d4] = hermite_dd(xi);
+        let n = self.elem_dofs();
+        let (mut b, mut c) = (DVector::zeros(n), DVector::zeros(n));
+        let l2 = l * l;
+        match self {
+            Shape::Beam2 => {
+                b[1] = d1 / l2;
+                b[2] = d2 / l;
+                b[4] = d3 / l2;
+                b[5] = d4 / l;
+            }
+            Shape::Beam3 => {
+                b[1] = d1 / l2;
+                b[5] = d2 / l;
+                b[7] = d3 / l2;
+                b[11] = d4 / l;
+                c[2] = d1 / l2;
+                c[4] = -d2 / l;
+                c[8] = d3 / l2;
+                c[10] = -d4 / l;
+            }
+        }
+        (b, c)
     }
 }
 
@@ -638,78 +677,10 @@ impl RefBody {
         });
         r
     }
-
-    /// Per element: `(ā, B, map, q_e)` with `ū' = ā·q_e` the element mean
-    /// of `u'` and `s̄ = q_eᵀ B q_e` the element mean of `v'² + w'²`.
-    fn averaged<F: FnMut(f64, &DVector<f64>, &DMatrix<f64>, &[Option<usize>], &DVector<f64>)>(
-        &self,
-        q_f: &[f64],
-        mut f: F,
-    ) {
-        self.check_q(q_f);
-        let l = self.l();
-        let ea = self.params.e * self.params.area();
-        let full = self.dof_map();
-        let gx = gauss_legendre(6, 0.0, 1.0);
-        let ne = self.shape.elem_dofs();
-        for e in 0..self.elements {
-            let map = self.elem_map(&full, e);
-            let qe = Self::gather(&map, q_f);
-            let mut abar = DVector::zeros(ne);
-            let mut bm = DMatrix::zeros(ne, ne);
-            for &(xi, wx) in &gx {
-                let (a, b, c) = self.shape.centerline_grad(l, xi);
-                abar += wx * a;
-                bm += wx * (&b * b.transpose() + &c * c.transpose());
-            }
-            f(ea * l, &abar, &bm, &map, &qe);
-        }
-    }
-
-    /// `U_nl = Σ_e E A l (½ ū' s̄ + ⅛ s̄²)`: the strain energy of the
-    /// element-mean axial strain `ε̄ = ū' + ½ s̄` beyond its linear part, where
-    /// `ū'` and `s̄` are the element means of `u'` and `v'² + w'²`.
-    pub fn stiffening_energy(&self, q_f: &[f64]) -> f64 {
-        let mut u = 0.0;
-        self.averaged(q_f, |w, a, bm, _, qe| {
-            let du = a.dot(qe);
-            let s = qe.dot(&(bm * qe));
-            u += w * (0.5 * du * s + 0.125 * s * s);
-        });
-        u
-    }
-
-    /// `∂U_nl/∂q = Σ_e E A l (½ s̄ ā + P̄ B q)`, `P̄ = ū' + ½ s̄`.
-    pub fn stiffening_force(&self, q_f: &[f64]) -> DVector<f64> {
-        let mut f = DVector::zeros(self.nf());
-        self.averaged(q_f, |w, a, bm, map, qe| {
-            let du = a.dot(qe);
-            let bq = bm * qe;
-            let s = qe.dot(&bq);
-            let local = w * (0.5 * s * a + (du + 0.5 * s) * &bq);
-            Self::scatter_vec(map, &local, &mut f);
-        });
-        f
-    }
-
-    /// `∂²U_nl/∂q² = Σ_e E A l (ā (Bq)ᵀ + Bq āᵀ + Bq (Bq)ᵀ + P̄ B)`.
-    pub fn stiffening_tangent(&self, q_f: &[f64]) -> DMatrix<f64> {
-        let nf = self.nf();
-        let mut h = DMatrix::zeros(nf, nf);
-        self.averaged(q_f, |w, a, bm, map, qe| {
-            let du = a.dot(qe);
-            let bq = bm * qe;
-            let s = qe.dot(&bq);
-            let local = w
-                * (a * bq.transpose()
-                    + &bq * a.transpose()
-                    + &bq * bq.transpose()
-                    + (du + 0.5 * s) * bm);
-            Self::scatter_mat(map, &local, &mut h);
-        });
-        h
-    }
 }
+
+mod stiffening;
+pub use stiffening::{StiffeningEnergy, StiffeningModel, N_BEND, N_MEAN};
 
 #[cfg(test)]
 mod tests;
