@@ -145,9 +145,9 @@ impl<'s, B: Body> Assembly<'s, B> {
         }
         let mut forces = Vec::new();
         for f in &sys.forces {
-            let ms = f.markers();
-            let ka = kin(sys, ms[0]);
-            let kb = ms.get(1).map(|m| kin(sys, m));
+            let (ma, mb) = f.markers();
+            let ka = kin(sys, ma);
+            let kb = mb.map(|m| kin(sys, m));
             let nl = ka.len() + kb.as_ref().map_or(0, |k| k.len());
             for &g in ka.idx.iter().chain(kb.iter().flat_map(|k| k.idx.iter())) {
                 touched[g] = true;
@@ -1020,9 +1020,9 @@ fn eval_force(
     t: f64,
     gp: Option<f64>,
 ) {
-    let ms = fe.markers();
-    fw.ka.eval(ms[0], q);
-    if let (Some(kb), Some(mb)) = (fw.kb.as_mut(), ms.get(1)) {
+    let (ma, mb) = fe.markers();
+    fw.ka.eval(ma, q);
+    if let (Some(kb), Some(mb)) = (fw.kb.as_mut(), mb) {
         kb.eval(mb, q);
     }
     let na = fw.ka.len();

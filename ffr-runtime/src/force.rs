@@ -57,11 +57,11 @@ impl fmt::Debug for ForceElement {
 }
 
 impl ForceElement {
-    /// The markers it acts at.
-    pub fn markers(&self) -> Vec<&Marker> {
+    /// The markers it acts at: the first, and the second if it has one.
+    pub fn markers(&self) -> (&Marker, Option<&Marker>) {
         match self {
-            ForceElement::Point { marker, .. } => vec![marker],
-            ForceElement::SpringDamper { a, b, .. } => vec![a, b],
+            ForceElement::Point { marker, .. } => (marker, None),
+            ForceElement::SpringDamper { a, b, .. } => (a, Some(b)),
         }
     }
 }

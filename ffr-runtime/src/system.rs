@@ -550,8 +550,10 @@ impl<B: Body> System<B> {
 
     /// Add a force element.
     pub fn add_force(&mut self, f: ForceElement) -> Result<()> {
-        for m in f.markers() {
-            self.check_marker(m)?;
+        let (ma, mb) = f.markers();
+        self.check_marker(ma)?;
+        if let Some(mb) = mb {
+            self.check_marker(mb)?;
         }
         if let ForceElement::SpringDamper {
             stiffness,
