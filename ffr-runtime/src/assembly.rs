@@ -1097,7 +1097,7 @@ impl<B: Body> Assembly<'_, B> {
                 Slot::Border(g) => xk[g as usize] = 1.0,
             }
             self.solver.mul_vec(&xb, &xk, &mut yb, &mut yk);
-            // Analytic column in coordinate/row space.
+            // Analytic column in coordinate/row space (also kept for callers).
             let mut analytic = vec![0.0; n + m];
             for (c, s) in self.coord_slot.iter().enumerate() {
                 analytic[c] = match *s {
