@@ -62,6 +62,6 @@ fn mechanism_iteration_matrix_matches_differences() {
         let lam: Vec<f64> = s.lambda.iter().map(|l| l / bp).collect();
         let (err, col) = asm.iteration_matrix_error(s.t, &s.q, &s.v, &s.a, &lam, bp, gp);
         println!("mechanism dim {dim}: {err:e} at {col}");
-        assert!(err < 1e-6, "dim {dim}: {err:e} at column {col}");
+        assert!(err < 1e-5, "dim {dim}: {err:e} at column {col}");
     }
 }

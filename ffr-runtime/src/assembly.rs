@@ -1057,10 +1057,11 @@ impl<B: Body> Assembly<'_, B> {
     }
 
     /// Test oracle of the analytic iteration matrix: the largest difference
-    /// between a column of [`Assembly::jacobian`] and the central difference
+    /// between an entry of [`Assembly::jacobian`] and the central difference
     /// of the scaled residual (with `q̇ += γ' δ`, `q̈ += β' δ` for a coordinate
-    /// step `δ`), relative to the column's largest entry; and the unknown
-    /// where it occurs. Allocates (checks only).
+    /// step `δ`), relative to the entry (with a floor of 10⁻⁶ of the
+    /// column's largest entry); and the column where it occurs. Allocates
+    /// (checks only).
     #[allow(clippy::too_many_arguments)]
     pub fn iteration_matrix_error(
         &mut self,
@@ -1133,17 +1134,25 @@ impl<B: Body> Assembly<'_, B> {
                 lm[col - n] -= e;
             }
             self.scaled_residual(t, &qm, &vm, &am, &lm, bp, &mut rm);
-            let mut scale = 0.0f64;
-            let mut diff = 0.0f64;
+            // Per entry, relative to the entry (floor: 10⁻⁶ of the column's
+            // largest, below which differences are round-off of the others).
+            let mut colmax = 0.0f64;
+            for i in 0..n + m {
+                if !(i < n && self.coord_slot[i] == Slot::Fixed) {
+                    colmax = colmax.max(analytic[i].abs());
+                }
+            }
+            let mut rel = 0.0f64;
             for i in 0..n + m {
                 if i < n && self.coord_slot[i] == Slot::Fixed {
                     continue;
                 }
                 let fd = (rp[i] - rm[i]) / (2.0 * e);
-                scale = scale.max(fd.abs()).max(analytic[i].abs());
-                diff = diff.max((fd - analytic[i]).abs());
+                let scale = analytic[i].abs().max(fd.abs()) + 1e-6 * colmax;
+                if scale > 0.0 {
+                    rel = rel.max((fd - analytic[i]).abs() / scale);
+                }
             }
-            let rel = if scale > 0.0 { diff / scale } else { 0.0 };
             if rel > worst.0 {
                 worst = (rel, col);
             }
