@@ -15,6 +15,7 @@ pub use nalgebra;
 
 pub mod compiled;
 pub mod evaluated;
+pub mod reference;
 pub mod scenes;
 
 pub use compiled::{BeamSpec, Kernels};

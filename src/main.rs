@@ -1,25 +1,32 @@
 fn main() {
     let a: Vec<String> = std::env::args().collect();
-    let mut cfg = ffr::scenes::spin_up::SpinUp::new(a.get(1).map_or(4.0, |s| s.parse().unwrap()));
-    cfg.elements = a.get(2).map_or(8, |s| s.parse().unwrap());
-    cfg.dt = a.get(3).map_or(0.01, |s| s.parse().unwrap());
-    if let Some(s) = a.get(4) {
-        cfg.stiffening = s.parse().unwrap();
-    }
-    cfg.spatial = a.get(5).is_some_and(|s| s == "spatial");
-    let r = ffr::scenes::spin_up::run(&cfg).unwrap();
-    println!(
-        "{:?} wall {:.3}s steps {} newton {} jac {} kernels {}",
-        r.min_transverse(),
-        r.wall,
-        r.steps,
-        r.newton_iterations,
-        r.jacobians,
-        r.kernels
-    );
-    if let Some(d) = r.diverged {
-        println!("diverged: {d:?}");
+    let omega: f64 = a.get(1).map_or(4.0, |s| s.parse().unwrap());
+    let reference = ffr::reference::spin_up(omega).unwrap();
+    for el in [4usize, 8, 16, 32] {
+        for dt in [0.01, 0.005, 0.002, 0.001] {
+            let mut cfg = ffr::scenes::spin_up::SpinUp::new(omega);
+            cfg.elements = el;
+            cfg.dt = dt;
+            if let Some(s) = a.get(2) {
+                cfg.stiffening = s.parse().unwrap();
+            }
+            let mut best = f64::INFINITY;
+            let mut r = None;
+            for _ in 0..3 {
+                let t0 = std::time::Instant::now();
+                let rr = ffr::scenes::spin_up::run(&cfg).unwrap();
+                best = best.min(t0.elapsed().as_secs_f64());
+                r = Some(rr);
+            }
+            let r = r.unwrap();
+            let (e, _) = reference
+                .error("tip_transverse", &r.t, &r.tip_transverse, 20.0)
+                .unwrap();
+            println!(
+                "{el:3} {dt:7} err {e:.3e} time {best:.4}s newton/step {:.2} jac/step {:.2}",
+                r.newton_iterations as f64 / r.steps as f64,
+                r.jacobians as f64 / r.steps as f64
+            );
+        }
     }
 }
-#[allow(dead_code)]
-fn check() {}
