@@ -945,7 +945,10 @@ impl<'s, B: Body> Assembly<'s, B> {
             e.gravity -= self.sys.gravity.dot(&(r * sc.mass.mass() + rot.a * st));
         }
         for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {
-            if matches!(fe, ForceElement::SpringDamper { .. }) {
+            if matches!(
+                fe,
+                ForceElement::SpringDamper { .. } | ForceElement::Torque { .. }
+            ) {
                 eval_force(fe, fw, q, v, 0.0, None);
                 e.springs += fw.eval.energy;
             }

@@ -35,7 +35,7 @@ pub use body::{
 pub use driver::Driver;
 pub use error::{Error, Result};
 pub use ffr_spec as spec;
-pub use force::ForceElement;
+pub use force::{ForceAxes, ForceElement, TorqueLaw};
 pub use integrator::{GeneralizedAlpha, Integrator, Rk4Baumgarte, State, StepView, Summary};
 pub use joint::Constraint;
 pub use kernel::{

@@ -9,7 +9,7 @@
 use crate::body::Body;
 use crate::driver::Driver;
 use crate::error::{Error, Result};
-use crate::force::{ForceElement, VectorFn};
+use crate::force::{ForceAxes, ForceElement, TorqueLaw, VectorFn};
 use crate::joint::{angle_row, coincident_rows, offset_row, perpendicular_row, Constraint, Row};
 use crate::marker::{BodyId, Marker};
 use crate::rotation::{euler_parameters, Rotation};
@@ -585,7 +585,53 @@ impl<B: Body> System<B> {
         force: impl Fn(f64) -> Vector3<f64> + Send + Sync + 'static,
     ) -> Result<()> {
         let force: VectorFn = Arc::new(force);
-        self.add_force(ForceElement::Point { marker, force })
+        self.add_force(ForceElement::Point {
+            marker,
+            force,
+            axes: ForceAxes::Global,
+        })
+    }
+
+    /// A force `F(t)` at a marker given in the marker's axes (a follower force).
+    pub fn add_follower_force(
+        &mut self,
+        marker: Marker,
+        force: impl Fn(f64) -> Vector3<f64> + Send + Sync + 'static,
+    ) -> Result<()> {
+        let force: VectorFn = Arc::new(force);
+        self.add_force(ForceElement::Point {
+            marker,
+            force,
+            axes: ForceAxes::Marker,
+        })
+    }
+
+    /// A torque about `z_a` between markers `a` and `b` (on `b`; `−τ` on `a`)
+    /// following `law`.
+    pub fn add_torque(&mut self, a: Marker, b: Marker, law: TorqueLaw) -> Result<()> {
+        match &law {
+            TorqueLaw::SpringDamper {
+                stiffness,
+                damping,
+                rest_angle,
+            } if !(stiffness.is_finite()
+                && damping.is_finite()
+                && rest_angle.is_finite()
+                && *stiffness >= 0.0
+                && *damping >= 0.0) =>
+            {
+                return Err(Error::InvalidInput(format!(
+                    "rotational spring–damper needs finite k, c ≥ 0 and a finite rest angle (got {stiffness}, {damping}, {rest_angle})"
+                )))
+            }
+            TorqueLaw::Pd { kp, kd, .. } if !(kp.is_finite() && kd.is_finite() && *kp >= 0.0 && *kd >= 0.0) => {
+                return Err(Error::InvalidInput(format!(
+                    "PD gains must be finite and ≥ 0 (got kp = {kp}, kd = {kd})"
+                )))
+            }
+            _ => {}
+        }
+        self.add_force(ForceElement::Torque { a, b, law })
     }
 
     /// A linear spring–damper between two markers.

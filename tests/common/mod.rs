@@ -4,7 +4,7 @@
 use ffr::compiled::BeamSpec;
 use ffr::runtime::nalgebra::{Vector2, Vector3};
 use ffr::runtime::spec::{Params, Stiffening};
-use ffr::runtime::{Body, Driver, Marker, Pose, RigidBody, System};
+use ffr::runtime::{Body, Driver, Marker, Pose, RigidBody, System, TorqueLaw};
 
 pub const BAR: Params = Params {
     length: 1.0,
@@ -56,6 +56,7 @@ pub fn mechanism(dim: usize) -> System<Box<dyn Body>> {
         .unwrap();
     let tip = sys.point(a, 1.0).unwrap();
     sys.revolute(tip.clone(), Marker::origin(l)).unwrap();
+    let tip = tip.clone();
     let mid = sys.point(a, 0.5).unwrap();
     sys.add_spring_damper(
         Marker::ground(Vector3::new(0.5, 0.3, 0.0)),
@@ -68,6 +69,31 @@ pub fn mechanism(dim: usize) -> System<Box<dyn Body>> {
     sys.add_point_force(Marker::at(l, Vector3::new(0.2, 0.0, 0.0)), |t| {
         Vector3::new(0.0, -0.5 * t.sin(), 0.1)
     })
+    .unwrap();
+    // A follower force at the arm's mid-point, a rotational spring–damper in
+    // the tip joint and a PD motor in the hub.
+    let quarter = sys.point(a, 0.25).unwrap();
+    sys.add_follower_force(quarter, |t| Vector3::new(0.1, 0.3 * t.cos(), -0.05))
+        .unwrap();
+    sys.add_torque(
+        tip,
+        Marker::origin(l),
+        TorqueLaw::SpringDamper {
+            stiffness: 2.0,
+            damping: 0.05,
+            rest_angle: 0.3,
+        },
+    )
+    .unwrap();
+    sys.add_torque(
+        Marker::ground(Vector3::zeros()),
+        Marker::origin(a),
+        TorqueLaw::Pd {
+            target: Driver::linear(0.0, 1.0),
+            kp: 5.0,
+            kd: 0.5,
+        },
+    )
     .unwrap();
     sys.set_gravity(Vector3::new(0.0, -9.81, 0.0)).unwrap();
     sys
