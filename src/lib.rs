@@ -16,6 +16,7 @@ pub use nalgebra;
 pub mod compiled;
 pub mod evaluated;
 pub mod reference;
+pub mod scene;
 pub mod scenes;
 
 pub use compiled::{BeamSpec, Kernels};

@@ -997,6 +997,25 @@ impl<'s, B: Body> Assembly<'s, B> {
     }
 }
 
+impl<B: Body> System<B> {
+    /// Workspace to evaluate marker `m` of this system (allocates once; then
+    /// [`MarkerKin::eval`] at any `q` allocates nothing).
+    pub fn marker_kin(&self, m: &crate::Marker) -> MarkerKin {
+        kin(self, m)
+    }
+}
+
+impl MarkerKin {
+    /// Global velocity `ṗ = J_p q̇` after [`MarkerKin::eval`].
+    pub fn velocity(&self, v: &[f64]) -> Vector3<f64> {
+        self.idx
+            .iter()
+            .zip(&self.dpos)
+            .map(|(&g, d)| d * v[g])
+            .sum()
+    }
+}
+
 fn kin<B: Body>(sys: &System<B>, m: &crate::Marker) -> MarkerKin {
     match m.body {
         Some(b) => {

@@ -44,6 +44,18 @@ impl Driver {
             }
         })
     }
+    /// `f(t) = f0 + a sin(2π ν t + φ)`.
+    pub fn harmonic(f0: f64, amplitude: f64, frequency: f64, phase: f64) -> Self {
+        Self::new(move |t| {
+            let w = 2.0 * PI * frequency;
+            let (s, c) = (w * t + phase).sin_cos();
+            [
+                f0 + amplitude * s,
+                amplitude * w * c,
+                -amplitude * w * w * s,
+            ]
+        })
+    }
     /// `[f(t), ḟ(t), f̈(t)]`.
     pub fn eval(&self, t: f64) -> [f64; 3] {
         (self.0)(t)

@@ -1,0 +1,1195 @@
+//! From a scene file to a [`Scene`]: checked, with errors at `file:line:col`,
+//! and with what the scene fixes folded in (a body whose frame a revolute
+//! joint to the ground and an angle drive determine completely gets its frame
+//! coordinates prescribed, so it runs its elastic equations only).
+
+use super::file::{
+    RawBody, RawForce, RawIntegrator, RawJoint, RawMotor, RawOutput, RawProfile, RawScene,
+};
+use crate::codegen::Location;
+use crate::compiled::{BeamSpec, Kernels};
+use crate::runtime::nalgebra::{Matrix3, Unit, UnitQuaternion, Vector2, Vector3};
+use crate::runtime::spec::{Formalism, Param, Params, Reference, Stiffening};
+use crate::runtime::{
+    Body, BodyId, Driver, ElementKernels, GeneralizedAlpha, Integrator, KernelBody, Marker, Pose,
+    Rayleigh, RigidBody, Rk4Baumgarte, System, TorqueLaw,
+};
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use toml::Spanned;
+
+/// A scene file that does not load: where and what.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    /// `file:line:col`, when the problem has a place.
+    pub location: Option<Location>,
+    /// What is wrong and what is allowed.
+    pub message: String,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.location {
+            Some(l) => write!(f, "{l}: {}", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// The most bytes a scene file may have.
+pub const MAX_SCENE_BYTES: u64 = 1 << 20;
+
+/// What an output column records.
+#[derive(Clone, Debug, PartialEq)]
+pub enum OutputKind {
+    /// Global position of a marker (component 0, 1, 2).
+    Position(usize),
+    /// Elastic displacement of a marker in its body's frame.
+    Deflection(usize),
+    /// Global velocity of a marker.
+    Velocity(usize),
+    /// The angle of the marker's x axis in the global x–y plane, or, with a
+    /// reference marker `a`, about `a`'s z axis (`atan2(x·y_a, x·x_a)`),
+    /// unwrapped along the run.
+    Angle,
+    /// An energy: total, kinetic, elastic, gravity or springs.
+    Energy(EnergyPart),
+}
+
+/// Which energy.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EnergyPart {
+    /// `T + V`.
+    Total,
+    /// `T`.
+    Kinetic,
+    /// Elastic.
+    Elastic,
+    /// Gravitational.
+    Gravity,
+    /// Springs.
+    Springs,
+}
+
+/// An output column.
+#[derive(Clone, Debug)]
+pub struct Output {
+    /// Column name.
+    pub name: String,
+    /// What it records.
+    pub kind: OutputKind,
+    /// Where (ground for energies).
+    pub marker: Marker,
+    /// Reference marker of a relative angle.
+    pub relative_to: Option<Marker>,
+}
+
+/// How a flexible body of a scene is made.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlexSpec {
+    /// Body name.
+    pub name: String,
+    /// The beam (shape, mesh, options, parameters).
+    pub beam: BeamSpec,
+    /// Whether its frame moves freely (else every frame coordinate is prescribed).
+    pub free_frame: bool,
+}
+
+/// Supplies the element kernels of a scene's flexible bodies: the built-in
+/// compiled ones or tapes (`ffr run`), or a compiled scene's own.
+pub trait KernelProvider {
+    /// The kernels for `spec` (scene dimension and frame freedom decided).
+    fn kernels(
+        &self,
+        spec: &FlexSpec,
+    ) -> Result<Box<dyn ElementKernels>, Box<dyn std::error::Error>>;
+}
+
+/// Built-in compiled kernels when they exist, else tapes.
+pub struct DefaultKernels;
+
+impl KernelProvider for DefaultKernels {
+    fn kernels(
+        &self,
+        spec: &FlexSpec,
+    ) -> Result<Box<dyn ElementKernels>, Box<dyn std::error::Error>> {
+        let k: Kernels = spec.beam.kernels()?;
+        Ok(Box::new(k))
+    }
+}
+
+/// A loaded scene, ready to run.
+pub struct Scene {
+    /// The file it came from.
+    pub origin: String,
+    /// Its description line, if any.
+    pub description: Option<String>,
+    /// The system.
+    pub system: System<Box<dyn Body>>,
+    /// End time (s).
+    pub t_end: f64,
+    /// Step (s).
+    pub dt: f64,
+    /// Integrator.
+    pub integrator: Integrator,
+    /// Output columns (after `t`).
+    pub outputs: Vec<Output>,
+    /// The flexible bodies as built.
+    pub flex: Vec<FlexSpec>,
+    /// How each body runs: `compiled`, `tape`, `rigid`.
+    pub kernels: Vec<(String, String)>,
+    /// What the loader folded in or left out (one line each).
+    pub notes: Vec<String>,
+}
+
+struct Ctx<'a> {
+    file: &'a str,
+    text: &'a str,
+}
+
+impl Ctx<'_> {
+    fn err(&self, span: Range<usize>, msg: impl Into<String>) -> SceneError {
+        SceneError {
+            location: Some(Location::of(self.file, self.text, span.start)),
+            message: msg.into(),
+        }
+    }
+}
+
+fn pos_f64(c: &Ctx, v: &Spanned<f64>, what: &str) -> Result<f64, SceneError> {
+    let x = *v.get_ref();
+    if x.is_finite() && x > 0.0 {
+        Ok(x)
+    } else {
+        Err(c.err(
+            v.span(),
+            format!("`{what}` must be a finite number > 0, found {x}"),
+        ))
+    }
+}
+
+fn fin_f64(c: &Ctx, v: &Spanned<f64>, what: &str) -> Result<f64, SceneError> {
+    let x = *v.get_ref();
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(c.err(
+            v.span(),
+            format!("`{what}` must be a finite number, found {x}"),
+        ))
+    }
+}
+
+fn vec_n(c: &Ctx, v: &Spanned<Vec<f64>>, n: usize, what: &str) -> Result<Vector3<f64>, SceneError> {
+    let x = v.get_ref();
+    if x.len() != n {
+        return Err(c.err(
+            v.span(),
+            format!(
+                "`{what}` needs {n} components in a {n}-D scene, found {}",
+                x.len()
+            ),
+        ));
+    }
+    if let Some(bad) = x.iter().find(|y| !y.is_finite()) {
+        return Err(c.err(v.span(), format!("`{what}` must be finite, found {bad}")));
+    }
+    let mut out = Vector3::zeros();
+    out.as_mut_slice()[..n].copy_from_slice(x);
+    Ok(out)
+}
+
+/// Read and load a scene file (relative shape paths against its directory).
+pub fn load(path: &Path) -> Result<Scene, Box<dyn std::error::Error>> {
+    load_with(path, &DefaultKernels)
+}
+
+/// [`load`] with another kernel provider.
+pub fn load_with(
+    path: &Path,
+    provider: &dyn KernelProvider,
+) -> Result<Scene, Box<dyn std::error::Error>> {
+    let file = path.display().to_string();
+    let meta = std::fs::metadata(path).map_err(|e| format!("{file}: {e}"))?;
+    if meta.is_dir() {
+        return Err(format!("{file}: is a directory, not a scene file").into());
+    }
+    if meta.len() > MAX_SCENE_BYTES {
+        return Err(format!(
+            "{file}: {} bytes; a scene file may have at most {MAX_SCENE_BYTES}",
+            meta.len()
+        )
+        .into());
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: {e}"))?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    Ok(from_str(&text, &file, &base, provider)?)
+}
+
+/// Load a scene from its text; `file` names it in errors, `base` resolves
+/// relative shape paths.
+pub fn from_str(
+    text: &str,
+    file: &str,
+    base: &Path,
+    provider: &dyn KernelProvider,
+) -> Result<Scene, SceneError> {
+    let c = Ctx { file, text };
+    let raw: RawScene = toml::from_str(text).map_err(|e| {
+        let offset = e.span().map_or(0, |s| s.start);
+        let msg = e.message().trim().to_string();
+        SceneError {
+            location: Some(Location::of(file, text, offset)),
+            message: if msg.is_empty() {
+                "the file is not valid TOML".into()
+            } else {
+                msg
+            },
+        }
+    })?;
+    build(&c, raw, base, provider)
+}
+
+fn parse_stiffening(c: &Ctx, v: &Spanned<toml::Value>) -> Result<Stiffening, SceneError> {
+    match v.get_ref() {
+        toml::Value::Boolean(b) => Ok(Stiffening::from_bool(*b)),
+        toml::Value::String(s) if s == "second-order" || s == "fourth-order" || s == "off" => {
+            Ok(s.parse().expect("checked"))
+        }
+        other => Err(c.err(
+            v.span(),
+            format!(
+                "`stiffening` must be true, false, \"second-order\" or \"fourth-order\", found {}",
+                other.type_str()
+            ),
+        )),
+    }
+}
+
+const PARAMS: &str = "length, rho, area, iy, iz, e, g, j";
+
+fn parse_params(
+    c: &Ctx,
+    body: &str,
+    raw: &RawBody,
+    span: Range<usize>,
+) -> Result<Params, SceneError> {
+    let Some(p) = &raw.params else {
+        return Err(c.err(
+            span,
+            format!("flexible body `{body}` needs `params = {{ {PARAMS} }}` (SI units)"),
+        ));
+    };
+    let mut v = [0.0; 8];
+    let mut given = [false; 8];
+    for (k, val) in p.get_ref() {
+        let Some(i) = Param::FIELDS.iter().position(|f| f.field() == k.get_ref()) else {
+            return Err(c.err(
+                k.span(),
+                format!(
+                    "unknown parameter `{}`: expected one of {PARAMS}",
+                    k.get_ref()
+                ),
+            ));
+        };
+        v[i] = fin_f64(c, val, k.get_ref())?;
+        given[i] = true;
+    }
+    if !given[0] {
+        return Err(c.err(p.span(), format!("body `{body}`: `params` needs `length`")));
+    }
+    Ok(Params::from_array(v))
+}
+
+/// A marker in the scene's syntax.
+#[derive(Clone, Debug)]
+enum MarkerRef {
+    Ground(Vector3<f64>),
+    Origin(BodyId),
+    Axis(BodyId, f64),
+    Point(BodyId, Vector3<f64>),
+}
+
+struct Builder<'a> {
+    c: &'a Ctx<'a>,
+    dim: usize,
+    names: Vec<String>,
+    rigid: Vec<bool>,
+}
+
+impl Builder<'_> {
+    fn marker_ref(&self, s: &Spanned<String>) -> Result<MarkerRef, SceneError> {
+        let text = s.get_ref().trim();
+        let allowed = || {
+            format!(
+                "a marker is `ground@[x, y{}]`, `NAME` (a body's frame origin), `NAME@x=…` (a point on a beam's axis) or `NAME@[x, y{}]` (a point fixed in a body's frame); bodies: {}",
+                if self.dim == 3 { ", z" } else { "" },
+                if self.dim == 3 { ", z" } else { "" },
+                self.names.join(", ")
+            )
+        };
+        let (name, rest) = match text.split_once('@') {
+            Some((n, r)) => (n.trim(), Some(r.trim())),
+            None => (text, None),
+        };
+        let point = |r: &str| -> Option<Vector3<f64>> {
+            let inner = r.strip_prefix('[')?.strip_suffix(']')?;
+            let xs: Vec<f64> = inner
+                .split(',')
+                .map(|x| x.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+                .collect::<Option<_>>()?;
+            if xs.len() != self.dim {
+                return None;
+            }
+            let mut v = Vector3::zeros();
+            v.as_mut_slice()[..self.dim].copy_from_slice(&xs);
+            Some(v)
+        };
+        if name == "ground" {
+            let p = rest.and_then(point).ok_or_else(|| {
+                self.c.err(
+                    s.span(),
+                    format!(
+                        "`{text}`: the ground needs a point, `ground@[x, y{}]`; {}",
+                        if self.dim == 3 { ", z" } else { "" },
+                        allowed()
+                    ),
+                )
+            })?;
+            return Ok(MarkerRef::Ground(p));
+        }
+        let Some(i) = self.names.iter().position(|n| n == name) else {
+            return Err(self.c.err(
+                s.span(),
+                format!("`{text}`: no body named `{name}`; {}", allowed()),
+            ));
+        };
+        let b = BodyId(i);
+        match rest {
+            None => Ok(MarkerRef::Origin(b)),
+            Some(r) if r.starts_with("x=") || r.starts_with("x =") => {
+                let v = r.split_once('=').map(|(_, v)| v.trim()).unwrap_or("");
+                let x: f64 = v
+                    .parse()
+                    .ok()
+                    .filter(|x: &f64| x.is_finite())
+                    .ok_or_else(|| {
+                        self.c.err(
+                            s.span(),
+                            format!("`{text}`: `x=` needs a number; {}", allowed()),
+                        )
+                    })?;
+                if self.rigid[i] {
+                    return Err(self.c.err(
+                        s.span(),
+                        format!("`{text}`: `{name}` is rigid and has no axis; give a body-frame point `{name}@[x, y{}]`", if self.dim == 3 { ", z" } else { "" }),
+                    ));
+                }
+                Ok(MarkerRef::Axis(b, x))
+            }
+            Some(r) => point(r).map(|p| MarkerRef::Point(b, p)).ok_or_else(|| {
+                self.c
+                    .err(s.span(), format!("`{text}`: not a marker; {}", allowed()))
+            }),
+        }
+    }
+
+    fn marker(
+        &self,
+        sys: &System<Box<dyn Body>>,
+        s: &Spanned<String>,
+    ) -> Result<Marker, SceneError> {
+        Ok(match self.marker_ref(s)? {
+            MarkerRef::Ground(p) => Marker::ground(p),
+            MarkerRef::Origin(b) => Marker::origin(b),
+            MarkerRef::Point(b, p) => Marker::at(b, p),
+            MarkerRef::Axis(b, x) => sys
+                .point(b, x)
+                .map_err(|e| self.c.err(s.span(), format!("`{}`: {e}", s.get_ref())))?,
+        })
+    }
+}
+
+fn profile(c: &Ctx, p: &Spanned<RawProfile>, key: &str) -> Result<Driver, SceneError> {
+    let r = p.get_ref();
+    let name = match key {
+        "angle" => r.angle.as_ref(),
+        _ => r.slide.as_ref(),
+    }
+    .ok_or_else(|| c.err(p.span(), format!("the drive needs `{key} = \"…\"`: one of spin-up, constant-rate, constant, harmonic")))?;
+    let need = |v: &Option<Spanned<f64>>, what: &str| -> Result<f64, SceneError> {
+        v.as_ref()
+            .ok_or_else(|| {
+                c.err(
+                    name.span(),
+                    format!("profile `{}` needs `{what}`", name.get_ref()),
+                )
+            })
+            .and_then(|x| fin_f64(c, x, what))
+    };
+    let opt = |v: &Option<Spanned<f64>>, what: &str, d: f64| -> Result<f64, SceneError> {
+        v.as_ref().map_or(Ok(d), |x| fin_f64(c, x, what))
+    };
+    match name.get_ref().as_str() {
+        "spin-up" => {
+            let omega = need(&r.omega, "omega")?;
+            let ramp = r
+                .ramp
+                .as_ref()
+                .ok_or_else(|| c.err(name.span(), "profile `spin-up` needs `ramp` (s)"))
+                .and_then(|x| pos_f64(c, x, "ramp"))?;
+            let start = opt(&r.start, "start", 0.0)?;
+            Ok(Driver::spin_up(omega, ramp).map(move |[f, fd, fdd]| [start + f, fd, fdd]))
+        }
+        "constant-rate" => {
+            let w = r
+                .omega
+                .as_ref()
+                .or(r.rate.as_ref())
+                .ok_or_else(|| {
+                    c.err(
+                        name.span(),
+                        "profile `constant-rate` needs `omega` (rad/s, or m/s for a slide)",
+                    )
+                })
+                .and_then(|x| fin_f64(c, x, "omega"))?;
+            Ok(Driver::linear(opt(&r.start, "start", 0.0)?, w))
+        }
+        "constant" => Ok(Driver::constant(need(&r.value, "value")?)),
+        "harmonic" => Ok(Driver::harmonic(
+            opt(&r.start, "start", 0.0)?,
+            need(&r.amplitude, "amplitude")?,
+            need(&r.frequency, "frequency")?,
+            opt(&r.phase, "phase", 0.0)?,
+        )),
+        other => Err(c.err(
+            name.span(),
+            format!(
+                "unknown profile `{other}`: expected spin-up, constant-rate, constant or harmonic"
+            ),
+        )),
+    }
+}
+
+fn integrator(c: &Ctx, r: &Option<Spanned<RawIntegrator>>) -> Result<Integrator, SceneError> {
+    let Some(r) = r else {
+        return Ok(Integrator::default());
+    };
+    let i = r.get_ref();
+    match i.kind.get_ref().as_str() {
+        "generalized-alpha" => {
+            let mut g = GeneralizedAlpha::default();
+            if let Some(x) = &i.rho_inf {
+                g.rho_inf = fin_f64(c, x, "rho_inf")?;
+                if !(0.0..=1.0).contains(&g.rho_inf) {
+                    return Err(c.err(
+                        x.span(),
+                        format!("`rho_inf` must be in [0, 1], found {}", g.rho_inf),
+                    ));
+                }
+            }
+            if let Some(x) = &i.rtol {
+                g.rtol = pos_f64(c, x, "rtol")?;
+            }
+            Ok(Integrator::GeneralizedAlpha(g))
+        }
+        "rk4" => {
+            let mut k = Rk4Baumgarte::default();
+            if let Some(x) = &i.alpha {
+                k.alpha = fin_f64(c, x, "alpha")?;
+            }
+            if let Some(x) = &i.beta {
+                k.beta = fin_f64(c, x, "beta")?;
+            }
+            Ok(Integrator::Rk4(k))
+        }
+        other => Err(c.err(
+            i.kind.span(),
+            format!("unknown integrator `{other}`: expected generalized-alpha or rk4"),
+        )),
+    }
+}
+
+/// A revolute joint between a ground point and a body's frame origin with an
+/// angle drive and nothing else: the body's frame is fully prescribed.
+fn folds(j: &RawJoint, dim: usize) -> bool {
+    j.kind.get_ref() == "revolute"
+        && j.motor.is_none()
+        && j.drive
+            .as_ref()
+            .is_some_and(|d| d.get_ref().angle.is_some())
+        && j.a
+            .as_ref()
+            .is_some_and(|a| a.get_ref().trim().starts_with("ground@"))
+        && !j.b.get_ref().contains('@')
+        && dim > 0
+}
+
+fn build(
+    c: &Ctx,
+    raw: RawScene,
+    base: &Path,
+    provider: &dyn KernelProvider,
+) -> Result<Scene, SceneError> {
+    let dim = match *raw.dimension.get_ref() {
+        2 => 2,
+        3 => 3,
+        d => {
+            return Err(c.err(
+                raw.dimension.span(),
+                format!("`dimension` must be 2 (planar) or 3 (spatial), found {d}"),
+            ))
+        }
+    };
+    let t_end = pos_f64(c, &raw.t_end, "t_end")?;
+    let dt = pos_f64(c, &raw.dt, "dt")?;
+    if dt > t_end {
+        return Err(c.err(
+            raw.dt.span(),
+            format!("`dt` = {dt} is longer than `t_end` = {t_end}"),
+        ));
+    }
+    if t_end / dt > 1e9 {
+        return Err(c.err(
+            raw.dt.span(),
+            format!(
+                "t_end/dt = {:e} steps is more than a scene may take (1e9)",
+                t_end / dt
+            ),
+        ));
+    }
+    let integrator = integrator(c, &raw.integrator)?;
+    let names: Vec<String> = raw.bodies.keys().cloned().collect();
+    if names.is_empty() {
+        return Err(c.err(
+            raw.dimension.span(),
+            "a scene needs at least one body under [bodies.NAME]",
+        ));
+    }
+    for (n, body) in &raw.bodies {
+        if n == "ground"
+            || n.is_empty()
+            || n.contains('@')
+            || n.chars().any(|ch| ch.is_whitespace() || ch.is_control())
+        {
+            return Err(c.err(
+                body.span().unwrap_or(0..0),
+                format!(
+                    "`{}` cannot name a body: `ground` is reserved, names have no spaces or `@`",
+                    n.escape_debug()
+                ),
+            ));
+        }
+    }
+    let rigid: Vec<bool> = raw.bodies.values().map(|b| b.mass.is_some()).collect();
+    let b = Builder {
+        c,
+        dim,
+        names: names.clone(),
+        rigid,
+    };
+    // Which bodies' frames are folded into prescribed coordinates.
+    let mut folded: Vec<Option<usize>> = vec![None; names.len()];
+    for (ji, jr) in raw.joints.iter().enumerate() {
+        if folds(jr, dim) {
+            if let Ok(MarkerRef::Origin(bid)) = b.marker_ref(&jr.b) {
+                if folded[bid.0].is_none() && !b.rigid[bid.0] {
+                    folded[bid.0] = Some(ji);
+                }
+            }
+        }
+    }
+    let mut sys: System<Box<dyn Body>> = System::with_dim(dim);
+    let mut notes = Vec::new();
+    let mut kernels_used = Vec::new();
+    let mut flex = Vec::new();
+    let mut ids = Vec::new();
+    for ((name, body), fold) in raw.bodies.iter().zip(&folded) {
+        let (name_s, rb) = (name, body);
+        let span = body.span().unwrap_or(0..0);
+        let pose = pose(c, rb, dim, span.clone())?;
+        let boxed: Box<dyn Body> = if let Some(m) = &rb.mass {
+            for (k, v) in [
+                ("shape", rb.shape.is_some()),
+                ("elements", rb.elements.is_some()),
+                ("params", rb.params.is_some()),
+            ] {
+                if v {
+                    return Err(c.err(span.clone(), format!("body `{name_s}` has `mass` (rigid) and `{k}` (flexible): give one kind")));
+                }
+            }
+            let mass = pos_f64(c, m, "mass")?;
+            let com = match &rb.centre {
+                Some(v) => vec_n(c, v, dim, "centre")?,
+                None => Vector3::zeros(),
+            };
+            let inertia = rb.inertia.as_ref().ok_or_else(|| c.err(span.clone(), format!("rigid body `{name_s}` needs `inertia` (planar: a number about the centre of mass; spatial: [Ixx, Iyy, Izz] or a 3×3 table)")))?;
+            let rbody = if dim == 2 {
+                let j = inertia
+                    .get_ref()
+                    .as_float()
+                    .or_else(|| inertia.get_ref().as_integer().map(|i| i as f64))
+                    .ok_or_else(|| {
+                        c.err(
+                            inertia.span(),
+                            "planar `inertia` is one number (kg m², about the centre of mass)",
+                        )
+                    })?;
+                RigidBody::planar(mass, j, Vector2::new(com.x, com.y))
+            } else {
+                let m3 = inertia3(c, inertia)?;
+                RigidBody::spatial(mass, m3, com)
+            }
+            .map_err(|e| c.err(span.clone(), format!("body `{name_s}`: {e}")))?;
+            kernels_used.push((name_s.clone(), "rigid".to_string()));
+            Box::new(rbody)
+        } else {
+            let shape = rb.shape.as_ref().ok_or_else(|| c.err(span.clone(), format!("body `{name_s}` needs `shape = \"beam2\"` (flexible) or `mass = …` (rigid)")))?;
+            let elements = rb.elements.as_ref().ok_or_else(|| {
+                c.err(
+                    span.clone(),
+                    format!("flexible body `{name_s}` needs `elements = N`"),
+                )
+            })?;
+            let n = *elements.get_ref();
+            if !(1..=ffr_spec_max() as i64).contains(&n) {
+                return Err(c.err(
+                    elements.span(),
+                    format!("`elements` must be 1 to {}, found {n}", ffr_spec_max()),
+                ));
+            }
+            let reference = match &rb.reference {
+                Some(r) => r
+                    .get_ref()
+                    .parse::<Reference>()
+                    .map_err(|e| c.err(r.span(), e))?,
+                None => Reference::Clamped,
+            };
+            let formalism = match &rb.formalism {
+                Some(f) => f
+                    .get_ref()
+                    .parse::<Formalism>()
+                    .map_err(|e| c.err(f.span(), e))?,
+                None => Formalism::Consistent,
+            };
+            let stiffening = match &rb.stiffening {
+                Some(v) => parse_stiffening(c, v)?,
+                None => Stiffening::Off,
+            };
+            if rb.modes.is_some() || rb.reduction.is_some() {
+                return Err(c.err(span.clone(), format!("body `{name_s}`: modal bodies (`modes`, `reduction`) are not available in scene files yet")));
+            }
+            let params = parse_params(c, name_s, rb, span.clone())?;
+            let shape_s = shape.get_ref();
+            let resolved = if crate::codegen::Shape::builtin(shape_s).is_some() {
+                shape_s.clone()
+            } else {
+                base.join(shape_s).display().to_string()
+            };
+            let beam = BeamSpec {
+                shape: resolved,
+                elements: n as usize,
+                reference,
+                formalism,
+                stiffening,
+                scene_dim: Some(dim),
+                params,
+                force_tape: false,
+            };
+            let spec = FlexSpec {
+                name: name_s.clone(),
+                beam,
+                free_frame: fold.is_none(),
+            };
+            let kernels = provider
+                .kernels(&spec)
+                .map_err(|e| c.err(shape.span(), format!("body `{name_s}`: {e}")))?;
+            let dimension = kernels.info().dim;
+            if dimension > dim {
+                return Err(c.err(shape.span(), format!("body `{name_s}`: shape `{shape_s}` is spatial; a planar scene needs a planar shape")));
+            }
+            let kb = KernelBody::new(kernels, params, n as usize, reference)
+                .map_err(|e| c.err(span.clone(), format!("body `{name_s}`: {e}")))?;
+            kernels_used.push((name_s.clone(), kernel_path(&spec)));
+            flex.push(spec);
+            Box::new(kb)
+        };
+        let id = sys
+            .add_body(name_s, boxed, pose)
+            .map_err(|e| c.err(span.clone(), e.to_string()))?;
+        if let Some(d) = &rb.damping {
+            if rigid_body(rb) {
+                return Err(c.err(
+                    d.span(),
+                    format!("body `{name_s}` is rigid: `damping` is for elastic coordinates"),
+                ));
+            }
+            let r = Rayleigh {
+                alpha: d
+                    .get_ref()
+                    .alpha
+                    .as_ref()
+                    .map_or(Ok(0.0), |x| fin_f64(c, x, "alpha"))?,
+                beta: d
+                    .get_ref()
+                    .beta
+                    .as_ref()
+                    .map_or(Ok(0.0), |x| fin_f64(c, x, "beta"))?,
+            };
+            sys.set_damping(id, r)
+                .map_err(|e| c.err(d.span(), e.to_string()))?;
+        }
+        let v = match &rb.velocity {
+            Some(v) => vec_n(c, v, dim, "velocity")?,
+            None => Vector3::zeros(),
+        };
+        let w = match &rb.omega {
+            None => Vector3::zeros(),
+            Some(o) => match (dim, o.get_ref()) {
+                (2, toml::Value::Float(x)) => Vector3::new(0.0, 0.0, *x),
+                (2, toml::Value::Integer(x)) => Vector3::new(0.0, 0.0, *x as f64),
+                (3, toml::Value::Array(a)) if a.len() == 3 => {
+                    let xs: Option<Vec<f64>> = a
+                        .iter()
+                        .map(|x| x.as_float().or_else(|| x.as_integer().map(|i| i as f64)))
+                        .collect();
+                    let xs = xs.ok_or_else(|| c.err(o.span(), "`omega` must be three numbers"))?;
+                    Vector3::new(xs[0], xs[1], xs[2])
+                }
+                _ => {
+                    return Err(c.err(
+                        o.span(),
+                        if dim == 2 {
+                            "planar `omega` is one number (rad/s about z)"
+                        } else {
+                            "spatial `omega` is [ωx, ωy, ωz] (rad/s, global)"
+                        },
+                    ))
+                }
+            },
+        };
+        if v.norm() > 0.0 || w.norm() > 0.0 {
+            sys.set_velocity(id, v, w)
+                .map_err(|e| c.err(span.clone(), e.to_string()))?;
+        }
+        ids.push(id);
+    }
+    // Gravity.
+    if let Some(g) = &raw.gravity {
+        let gv = vec_n(c, g, dim, "gravity")?;
+        sys.set_gravity(gv)
+            .map_err(|e| c.err(g.span(), e.to_string()))?;
+    }
+    // Joints.
+    for (ji, jr) in raw.joints.iter().enumerate() {
+        let j = jr;
+        let kind = jr.kind.get_ref().as_str();
+        let bm = b.marker(&sys, &jr.b)?;
+        if kind == "ground" {
+            if jr.a.is_some() || jr.drive.is_some() || jr.motor.is_some() {
+                return Err(c.err(j.span(), "a `ground` joint fixes body `b` where it starts: it takes no `a`, `drive` or `motor`"));
+            }
+            let MarkerRef::Origin(bid) = b.marker_ref(&jr.b)? else {
+                return Err(c.err(
+                    jr.b.span(),
+                    "a `ground` joint takes a body name as `b` (it fixes the body's frame)",
+                ));
+            };
+            sys.ground(bid)
+                .map_err(|e| c.err(j.span(), e.to_string()))?;
+            notes.push(format!(
+                "body `{}`: frame fixed by a ground joint (prescribed coordinates)",
+                names[bid.0]
+            ));
+            continue;
+        }
+        let a = jr.a.as_ref().ok_or_else(|| {
+            c.err(
+                j.span(),
+                format!("a `{kind}` joint needs markers `a` and `b`"),
+            )
+        })?;
+        let am = b.marker(&sys, a)?;
+        if let Some(bi) = folded.iter().position(|f| *f == Some(ji)) {
+            // Revolute to the ground at the body's frame origin, angle drive:
+            // prescribe the frame (origin fixed, angle driven).
+            let bid = BodyId(bi);
+            let drive = profile(c, jr.drive.as_ref().expect("checked"), "angle")?;
+            let entry = sys.body_entry(bid);
+            let (o, d) = (entry.offset, entry.d);
+            let (q0, _) = sys.initial_coords();
+            let origin =
+                Vector3::from_iterator((0..3).map(|k| if k < d { q0[o + k] } else { 0.0 }));
+            let MarkerRef::Ground(p) = b.marker_ref(a)? else {
+                unreachable!()
+            };
+            if (origin - p).norm() > 1e-12 * (1.0 + p.norm()) {
+                return Err(c.err(a.span(), format!("the revolute joint's ground point {:?} is not at body `{}`'s frame origin {:?}: put the body's `position` at the joint", &p.as_slice()[..dim], names[bi], &origin.as_slice()[..dim])));
+            }
+            sys.prescribe_rotation_about_z(bid, drive)
+                .map_err(|e| c.err(j.span(), e.to_string()))?;
+            notes.push(format!("body `{}`: revolute joint to the ground with an angle drive folded into prescribed frame coordinates (elastic equations only)", names[bi]));
+            continue;
+        }
+        let res = match kind {
+            "revolute" => sys.revolute(am.clone(), bm.clone()),
+            "fixed" => sys.fixed(am.clone(), bm.clone()),
+            "spherical" => sys.spherical(am.clone(), bm.clone()),
+            "prismatic" => sys.prismatic(am.clone(), bm.clone()),
+            other => {
+                return Err(c.err(jr.kind.span(), format!("unknown joint kind `{other}`: expected ground, fixed, revolute, spherical or prismatic")));
+            }
+        };
+        res.map_err(|e| c.err(jr.kind.span(), e.to_string()))?;
+        if let Some(d) = &jr.drive {
+            match kind {
+                "revolute" => {
+                    let f = profile(c, d, "angle")?;
+                    sys.prescribe_rotation(am.clone(), bm.clone(), f)
+                }
+                "prismatic" => {
+                    let f = profile(c, d, "slide")?;
+                    sys.prescribe_slide(am.clone(), bm.clone(), f)
+                }
+                _ => return Err(c.err(d.span(), format!("a `{kind}` joint has no drive: drives are for revolute (angle) and prismatic (slide) joints"))),
+            }
+            .map_err(|e| c.err(d.span(), e.to_string()))?;
+        }
+        if let Some(m) = &jr.motor {
+            if kind != "revolute" {
+                return Err(c.err(
+                    m.span(),
+                    "motors act in revolute joints (a torque about the joint axis)",
+                ));
+            }
+            let law = motor(c, m)?;
+            sys.add_torque(am, bm, law)
+                .map_err(|e| c.err(m.span(), e.to_string()))?;
+        }
+    }
+    // Forces.
+    for f in &raw.forces {
+        force(c, &b, &mut sys, f)?;
+    }
+    // Outputs.
+    let mut outputs = Vec::new();
+    for o in &raw.outputs {
+        let out = output(c, &b, &sys, o)?;
+        if outputs.iter().any(|x: &Output| x.name == out.name) || out.name == "t" {
+            return Err(c.err(
+                o.name.span(),
+                format!(
+                    "output `{}` is named twice (or `t`, the time column)",
+                    out.name
+                ),
+            ));
+        }
+        outputs.push(out);
+    }
+    let _ = ids;
+    Ok(Scene {
+        origin: c.file.to_string(),
+        description: raw.description,
+        system: sys,
+        t_end,
+        dt,
+        integrator,
+        outputs,
+        flex,
+        kernels: kernels_used,
+        notes,
+    })
+}
+
+fn rigid_body(rb: &RawBody) -> bool {
+    rb.mass.is_some()
+}
+
+fn ffr_spec_max() -> usize {
+    crate::runtime::spec::MAX_ELEMENTS
+}
+
+fn kernel_path(spec: &FlexSpec) -> String {
+    match spec.beam.kernels() {
+        Ok(k) => k.path().to_string(),
+        Err(_) => "tape".into(),
+    }
+}
+
+fn inertia3(c: &Ctx, v: &Spanned<toml::Value>) -> Result<Matrix3<f64>, SceneError> {
+    let num = |x: &toml::Value| x.as_float().or_else(|| x.as_integer().map(|i| i as f64));
+    let bad = || {
+        c.err(v.span(), "spatial `inertia` is [Ixx, Iyy, Izz] or a 3×3 table [[…], […], […]] (kg m², about the centre of mass)")
+    };
+    let a = v.get_ref().as_array().ok_or_else(bad)?;
+    if a.len() == 3 && a.iter().all(|x| num(x).is_some()) {
+        let d: Vec<f64> = a.iter().map(|x| num(x).expect("checked")).collect();
+        return Ok(Matrix3::from_diagonal(&Vector3::new(d[0], d[1], d[2])));
+    }
+    if a.len() == 3 {
+        let mut m = Matrix3::zeros();
+        for (i, row) in a.iter().enumerate() {
+            let r = row.as_array().filter(|r| r.len() == 3).ok_or_else(bad)?;
+            for (j, x) in r.iter().enumerate() {
+                m[(i, j)] = num(x).ok_or_else(bad)?;
+            }
+        }
+        return Ok(m);
+    }
+    Err(bad())
+}
+
+fn pose(c: &Ctx, rb: &RawBody, dim: usize, span: Range<usize>) -> Result<Pose, SceneError> {
+    let p = match &rb.position {
+        Some(v) => vec_n(c, v, dim, "position")?,
+        None => Vector3::zeros(),
+    };
+    if dim == 2 {
+        if let Some(o) = &rb.orientation {
+            return Err(c.err(o.span(), "a planar body has `angle`, not `orientation`"));
+        }
+        let a = rb
+            .angle
+            .as_ref()
+            .map_or(Ok(0.0), |x| fin_f64(c, x, "angle"))?;
+        Ok(Pose::planar(p.x, p.y, a))
+    } else {
+        if let Some(a) = &rb.angle {
+            return Err(c.err(
+                a.span(),
+                "a spatial body has `orientation = { axis = [x, y, z], angle = … }`, not `angle`",
+            ));
+        }
+        let q = match &rb.orientation {
+            None => UnitQuaternion::identity(),
+            Some(o) => {
+                let ax = vec_n(c, &o.get_ref().axis, 3, "axis")?;
+                if ax.norm() == 0.0 {
+                    return Err(c.err(o.get_ref().axis.span(), "`axis` must not be zero"));
+                }
+                let ang = fin_f64(c, &o.get_ref().angle, "angle")?;
+                UnitQuaternion::from_axis_angle(&Unit::new_normalize(ax), ang)
+            }
+        };
+        let _ = span;
+        Ok(Pose::spatial(p, q))
+    }
+}
+
+fn motor(c: &Ctx, m: &Spanned<RawMotor>) -> Result<TorqueLaw, SceneError> {
+    let r = m.get_ref();
+    match (&r.torque, &r.target) {
+        (Some(t), None) => {
+            let tau = fin_f64(c, t, "torque")?;
+            if r.kp.is_some() || r.kd.is_some() {
+                return Err(c.err(
+                    m.span(),
+                    "a motor has `torque` (constant) or `target` with `kp`, `kd` (PD), not both",
+                ));
+            }
+            Ok(TorqueLaw::Torque(Arc::new(move |_| tau)))
+        }
+        (None, Some(target)) => {
+            let drv = match target.get_ref() {
+                toml::Value::Float(x) => Driver::constant(*x),
+                toml::Value::Integer(x) => Driver::constant(*x as f64),
+                toml::Value::Table(_) => {
+                    let p: RawProfile =
+                        target
+                            .get_ref()
+                            .clone()
+                            .try_into()
+                            .map_err(|e: toml::de::Error| {
+                                c.err(target.span(), format!("motor `target`: {}", e.message()))
+                            })?;
+                    profile(c, &Spanned::new(target.span(), p), "angle")?
+                }
+                other => {
+                    return Err(c.err(
+                        target.span(),
+                        format!(
+                            "motor `target` is an angle (rad) or a profile table, found a {}",
+                            other.type_str()
+                        ),
+                    ))
+                }
+            };
+            let kp =
+                r.kp.as_ref()
+                    .ok_or_else(|| c.err(m.span(), "a PD motor needs `kp` (N m/rad)"))
+                    .and_then(|x| fin_f64(c, x, "kp"))?;
+            let kd = r.kd.as_ref().map_or(Ok(0.0), |x| fin_f64(c, x, "kd"))?;
+            Ok(TorqueLaw::Pd {
+                target: drv,
+                kp,
+                kd,
+            })
+        }
+        _ => Err(c.err(
+            m.span(),
+            "a motor is `{ torque = τ }` or `{ target = φ, kp = …, kd = … }`",
+        )),
+    }
+}
+
+fn force(
+    c: &Ctx,
+    b: &Builder,
+    sys: &mut System<Box<dyn Body>>,
+    f: &RawForce,
+) -> Result<(), SceneError> {
+    let r = f;
+    fn need<'v>(
+        c: &Ctx,
+        f: &RawForce,
+        v: &'v Option<Spanned<String>>,
+        what: &str,
+    ) -> Result<&'v Spanned<String>, SceneError> {
+        v.as_ref().ok_or_else(|| {
+            c.err(
+                f.span(),
+                format!("a `{}` force needs `{what}`", f.kind.get_ref()),
+            )
+        })
+    }
+    let numr = |v: &Option<Spanned<f64>>, what: &str| -> Result<f64, SceneError> {
+        v.as_ref()
+            .ok_or_else(|| {
+                c.err(
+                    f.span(),
+                    format!("a `{}` force needs `{what}`", r.kind.get_ref()),
+                )
+            })
+            .and_then(|x| fin_f64(c, x, what))
+    };
+    match r.kind.get_ref().as_str() {
+        "point" => {
+            let at = need(c, f, &r.at, "at")?;
+            let m = b.marker(sys, at)?;
+            let fv = r.force.as_ref().ok_or_else(|| c.err(f.span(), "a `point` force needs `force = [Fx, Fy(, Fz)]` (N)"))?;
+            let fv = vec_n(c, fv, b.dim, "force")?;
+            let res = match r.axes.as_ref().map(|a| a.get_ref().as_str()) {
+                None | Some("global") => sys.add_point_force(m, move |_| fv),
+                Some("body") => sys.add_follower_force(m, move |_| fv),
+                Some(other) => return Err(c.err(r.axes.as_ref().expect("some").span(), format!("`axes` is \"global\" or \"body\", found `{other}`"))),
+            };
+            res.map_err(|e| c.err(f.span(), e.to_string()))
+        }
+        "spring-damper" => {
+            let (a, bb) = (b.marker(sys, need(c, f, &r.a, "a")?)?, b.marker(sys, need(c, f, &r.b, "b")?)?);
+            sys.add_spring_damper(a, bb, numr(&r.stiffness, "stiffness")?, r.damping.as_ref().map_or(Ok(0.0), |x| fin_f64(c, x, "damping"))?, numr(&r.rest_length, "rest_length")?)
+                .map_err(|e| c.err(f.span(), e.to_string()))
+        }
+        "rotational-spring-damper" => {
+            let (a, bb) = (b.marker(sys, need(c, f, &r.a, "a")?)?, b.marker(sys, need(c, f, &r.b, "b")?)?);
+            let law = TorqueLaw::SpringDamper {
+                stiffness: numr(&r.stiffness, "stiffness")?,
+                damping: r.damping.as_ref().map_or(Ok(0.0), |x| fin_f64(c, x, "damping"))?,
+                rest_angle: r.rest_angle.as_ref().map_or(Ok(0.0), |x| fin_f64(c, x, "rest_angle"))?,
+            };
+            sys.add_torque(a, bb, law).map_err(|e| c.err(f.span(), e.to_string()))
+        }
+        "torque" => {
+            let (a, bb) = (b.marker(sys, need(c, f, &r.a, "a")?)?, b.marker(sys, need(c, f, &r.b, "b")?)?);
+            let tau = numr(&r.torque, "torque")?;
+            sys.add_torque(a, bb, TorqueLaw::Torque(Arc::new(move |_| tau))).map_err(|e| c.err(f.span(), e.to_string()))
+        }
+        other => Err(c.err(r.kind.span(), format!("unknown force kind `{other}`: expected point, spring-damper, rotational-spring-damper or torque"))),
+    }
+}
+
+fn output(
+    c: &Ctx,
+    b: &Builder,
+    sys: &System<Box<dyn Body>>,
+    o: &RawOutput,
+) -> Result<Output, SceneError> {
+    let r = o;
+    let name = r.name.get_ref().clone();
+    if name.is_empty()
+        || name
+            .chars()
+            .any(|ch| ch == ',' || ch == '"' || ch.is_control())
+    {
+        return Err(c.err(r.name.span(), "an output name must be non-empty without commas, quotes or control characters (it is a CSV column)"));
+    }
+    let comp = |dflt: Option<usize>| -> Result<usize, SceneError> {
+        match &r.component {
+            None => dflt.ok_or_else(|| {
+                c.err(
+                    o.span(),
+                    format!(
+                        "output `{name}` needs `component = \"x\"`, `\"y\"`{}",
+                        if b.dim == 3 { " or `\"z\"`" } else { "" }
+                    ),
+                )
+            }),
+            Some(s) => match s.get_ref().as_str() {
+                "x" => Ok(0),
+                "y" => Ok(1),
+                "z" if b.dim == 3 => Ok(2),
+                other => Err(c.err(
+                    s.span(),
+                    format!(
+                        "`component` is x, y{} — found `{other}`",
+                        if b.dim == 3 { " or z" } else { "" }
+                    ),
+                )),
+            },
+        }
+    };
+    let at = || {
+        r.at.as_ref()
+            .ok_or_else(|| c.err(o.span(), format!("output `{name}` needs `at = \"MARKER\"`")))
+    };
+    let kind = match r.kind.get_ref().as_str() {
+        "position" => OutputKind::Position(comp(None)?),
+        "deflection" => OutputKind::Deflection(comp(None)?),
+        "velocity" => OutputKind::Velocity(comp(None)?),
+        "angle" => OutputKind::Angle,
+        "energy" => {
+            let part = match r.component.as_ref().map(|s| s.get_ref().as_str()) {
+                None | Some("total") => EnergyPart::Total,
+                Some("kinetic") => EnergyPart::Kinetic,
+                Some("elastic") => EnergyPart::Elastic,
+                Some("gravity") => EnergyPart::Gravity,
+                Some("springs") => EnergyPart::Springs,
+                Some(other) => return Err(c.err(r.component.as_ref().expect("some").span(), format!("energy `component` is total, kinetic, elastic, gravity or springs — found `{other}`"))),
+            };
+            return Ok(Output { name, kind: OutputKind::Energy(part), marker: Marker::ground(Vector3::zeros()), relative_to: None });
+        }
+        other => return Err(c.err(r.kind.span(), format!("unknown output kind `{other}`: expected position, deflection, angle, velocity or energy"))),
+    };
+    let marker = b.marker(sys, at()?)?;
+    if matches!(kind, OutputKind::Deflection(_)) && marker.body.is_none() {
+        return Err(c.err(
+            at()?.span(),
+            "a deflection is measured on a body, not on the ground",
+        ));
+    }
+    let relative_to = match &r.a {
+        Some(a) if kind == OutputKind::Angle => Some(b.marker(sys, a)?),
+        Some(a) => {
+            return Err(c.err(
+                a.span(),
+                "`a` (a reference marker) is only for angle outputs",
+            ))
+        }
+        None => None,
+    };
+    Ok(Output {
+        name,
+        kind,
+        marker,
+        relative_to,
+    })
+}
+
+/// The scene files shipped with ffr (`scenes/`).
+pub fn builtin_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes")
+}

@@ -1,0 +1,13 @@
+//! Scene files: a TOML description of bodies, joints, drives, motors,
+//! forces and outputs, run by `ffr run SCENE.toml` (format: the README's
+//! "Scene files"), or compiled into a crate by `ffr_codegen::Builder::scene`.
+
+pub mod file;
+pub mod load;
+pub mod run;
+
+pub use load::{
+    from_str, load, load_with, DefaultKernels, EnergyPart, FlexSpec, KernelProvider, Output,
+    OutputKind, Scene, SceneError,
+};
+pub use run::{run, SceneRun};

@@ -1,0 +1,127 @@
+//! Running a scene: the outputs recorded at every step.
+
+use super::load::{EnergyPart, OutputKind, Scene};
+use crate::runtime::marker::MarkerKin;
+use std::ops::ControlFlow;
+
+/// The recorded outputs of a scene run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SceneRun {
+    /// Column names after `t`.
+    pub names: Vec<String>,
+    /// Times.
+    pub t: Vec<f64>,
+    /// One vector per output.
+    pub columns: Vec<Vec<f64>>,
+    /// Steps taken.
+    pub steps: usize,
+    /// Newton iterations.
+    pub newton_iterations: usize,
+    /// Iteration-matrix factorizations.
+    pub jacobians: usize,
+    /// Wall time of the simulation (s).
+    pub wall: f64,
+    /// Why the run stopped early (an integrator failure), if it did.
+    pub failed: Option<String>,
+}
+
+/// Run `scene` to its end time, recording every output at every step.
+pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
+    let sys = &scene.system;
+    let mut kins: Vec<(MarkerKin, Option<MarkerKin>)> = scene
+        .outputs
+        .iter()
+        .map(|o| {
+            (
+                sys.marker_kin(&o.marker),
+                o.relative_to.as_ref().map(|m| sys.marker_kin(m)),
+            )
+        })
+        .collect();
+    let n = (scene.t_end / scene.dt).ceil() as usize + 2;
+    let mut out = SceneRun {
+        names: scene.outputs.iter().map(|o| o.name.clone()).collect(),
+        t: Vec::with_capacity(n),
+        columns: scene
+            .outputs
+            .iter()
+            .map(|_| Vec::with_capacity(n))
+            .collect(),
+        ..SceneRun::default()
+    };
+    let mut prev_angle = vec![f64::NAN; scene.outputs.len()];
+    let start = std::time::Instant::now();
+    let res = sys.simulate(scene.t_end, scene.dt, &scene.integrator, |v| {
+        let (q, qd) = (&v.state.q, &v.state.v);
+        out.t.push(v.state.t);
+        let mut energy = None;
+        for (i, o) in scene.outputs.iter().enumerate() {
+            let value = match &o.kind {
+                OutputKind::Energy(part) => {
+                    let e = *energy.get_or_insert_with(|| v.assembly.energy(q, qd));
+                    match part {
+                        EnergyPart::Total => e.total(),
+                        EnergyPart::Kinetic => e.kinetic,
+                        EnergyPart::Elastic => e.elastic,
+                        EnergyPart::Gravity => e.gravity,
+                        EnergyPart::Springs => e.springs,
+                    }
+                }
+                kind => {
+                    let (k, rel) = &mut kins[i];
+                    k.eval(&o.marker, q);
+                    match kind {
+                        OutputKind::Position(c) => k.pos[*c],
+                        OutputKind::Velocity(c) => k.velocity(qd)[*c],
+                        OutputKind::Deflection(c) => o
+                            .marker
+                            .shape
+                            .entries
+                            .iter()
+                            .enumerate()
+                            .map(|(j, (_, s, _))| s[*c] * q[k.idx[k.n_frame + j]])
+                            .sum(),
+                        OutputKind::Angle => {
+                            let x = k.axes[0];
+                            let raw = match rel {
+                                Some(r) => {
+                                    r.eval(o.relative_to.as_ref().expect("relative"), q);
+                                    x.dot(&r.axes[1]).atan2(x.dot(&r.axes[0]))
+                                }
+                                None => x.y.atan2(x.x),
+                            };
+                            let p = prev_angle[i];
+                            let tau = std::f64::consts::TAU;
+                            let a = if p.is_nan() {
+                                raw
+                            } else {
+                                raw + tau * ((p - raw) / tau).round()
+                            };
+                            prev_angle[i] = a;
+                            a
+                        }
+                        OutputKind::Energy(_) => unreachable!(),
+                    }
+                }
+            };
+            out.columns[i].push(value);
+        }
+        ControlFlow::Continue(())
+    });
+    out.wall = start.elapsed().as_secs_f64();
+    match res {
+        Ok(s) => {
+            out.steps = s.steps;
+            out.newton_iterations = s.newton_iterations;
+            out.jacobians = s.jacobians;
+        }
+        Err(e) => match e {
+            crate::runtime::Error::NoConvergence { .. }
+            | crate::runtime::Error::NonFinite { .. }
+            | crate::runtime::Error::Unstable { .. }
+            | crate::runtime::Error::Singular { .. } => out.failed = Some(e.to_string()),
+            other => return Err(other),
+        },
+    }
+    Ok(out)
+}
