@@ -24,6 +24,8 @@ use crate::body::{BodySpec, Formalism, Reference};
 use crate::emit::{emit_file, EmitOptions};
 use crate::error::Error;
 use crate::generate::{generate, Options};
+use crate::limits::check_literals;
+use crate::sanitize::{check_identifier, check_type_name};
 use crate::shape::Shape;
 use std::path::{Path, PathBuf};
 
@@ -197,6 +199,7 @@ impl Builder {
                     stiffening: b.stiffening,
                 },
             )?;
+            check_literals(&g)?;
             let contents = emit_file(
                 &g,
                 &EmitOptions {
@@ -293,17 +296,16 @@ pub fn resolve_shape(name_or_path: &str, base: &Path) -> Result<Shape, Error> {
     }
 }
 
-/// The generated type name of body `name`: its CamelCase, after checking that
-/// both are Rust identifiers.
+/// The generated type name of body `name`: its CamelCase, after checking
+/// that `name` is a plain ASCII Rust identifier that is not a keyword (see
+/// [`crate::sanitize::check_identifier`]) and that the CamelCase is a valid
+/// type name.
 pub fn type_name_of(name: &str) -> Result<String, Error> {
-    let bad = |why: &str| {
-        Error::Body(format!(
-            "body name `{name}` is not a Rust identifier{why} (expected e.g. `arm` or `two_link_arm`)"
+    check_identifier(name, "body name").map_err(|m| {
+        Error::Name(format!(
+            "{m} (a body name must be a Rust identifier, e.g. `arm` or `two_link_arm`)"
         ))
-    };
-    if name.starts_with("r#") || syn::parse_str::<syn::Ident>(name).is_err() {
-        return Err(bad(""));
-    }
+    })?;
     let camel: String = name
         .split('_')
         .filter(|part| !part.is_empty())
@@ -313,9 +315,16 @@ pub fn type_name_of(name: &str) -> Result<String, Error> {
             first.into_iter().chain(c).collect::<String>()
         })
         .collect();
-    if camel.is_empty() || syn::parse_str::<syn::Ident>(&camel).is_err() {
-        return Err(bad(&format!(", or its type name `{camel}` is not")));
+    if camel.is_empty() {
+        return Err(Error::Name(format!(
+            "body name `{name}` has no letters or digits for its type name (expected e.g. `arm` or `two_link_arm`)"
+        )));
     }
+    check_type_name(&camel, "type name").map_err(|m| {
+        Error::Name(format!(
+            "body name `{name}` gives a type name that is not allowed: {m}"
+        ))
+    })?;
     Ok(camel)
 }
 
@@ -388,15 +397,10 @@ y = ["0", "1 - xi", "0", "xi"]
         assert_eq!(type_name_of("two_link_arm").unwrap(), "TwoLinkArm");
         assert_eq!(type_name_of("arm_2").unwrap(), "Arm2");
         for bad in [
-            "", "2arm", "my-arm", "arm.rs", "self", "r#arm", "_", "self_",
+            "", "2arm", "my-arm", "arm.rs", "self", "r#arm", "_", "self_", "fn", "gen", "ärm", "__",
         ] {
             let e = type_name_of(bad).unwrap_err().to_string();
-            assert!(
-                e.starts_with(&format!(
-                    "invalid body: body name `{bad}` is not a Rust identifier"
-                )),
-                "{e}"
-            );
+            assert!(e.starts_with(&format!("body name `{bad}`")), "{e}");
         }
     }
 

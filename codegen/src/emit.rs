@@ -35,8 +35,8 @@ pub fn describe(g: &Generated) -> String {
     let s = &g.spec;
     format!(
         "shape `{}` ({}, fnv1a {:016x}), {} element{}, {}, {} formalism, stiffening {}",
-        s.shape.name,
-        s.shape.origin,
+        crate::sanitize::comment_text(&s.shape.name),
+        crate::sanitize::comment_text(&s.shape.origin),
         s.shape.source_hash,
         s.elements,
         if s.elements == 1 { "" } else { "s" },
@@ -343,7 +343,7 @@ pub fn emit_file(g: &Generated, opts: &EmitOptions) -> String {
     writeln!(
         header,
         "// Body `{}`: {} elastic coordinates, in this order:",
-        opts.type_name,
+        crate::sanitize::comment_text(&opts.type_name),
         dofs.len()
     )
     .unwrap();

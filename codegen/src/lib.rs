@@ -18,9 +18,11 @@ pub mod emit;
 pub mod error;
 pub mod expr;
 pub mod generate;
+pub mod limits;
 pub mod numeric;
 pub mod poly;
 pub mod program;
+pub mod sanitize;
 pub mod shape;
 
 pub use body::{BodySpec, Dof, Formalism, Reference};
