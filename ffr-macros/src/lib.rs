@@ -302,6 +302,8 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
         },
     )
     .map_err(|e| Error::new_spanned(&shape_lit, e))?;
+    ffr_codegen::limits::check_literals(&generated)
+        .map_err(|e| Error::new_spanned(&shape_lit, e))?;
 
     check_fields(&strukt, &generated.used_params(), &shape_name)?;
 
