@@ -2,7 +2,9 @@
 //! simulation.
 
 use clap::{Args, Parser, Subcommand};
+use ffr_codegen::limits::{check_invariants, check_literals, check_params};
 use ffr_codegen::numeric::NumericInvariants;
+use ffr_codegen::sanitize::check_type_name;
 use ffr_codegen::{BodySpec, EmitOptions, Formalism, Options, ParamValues, Reference, Shape};
 use serde_json::{json, Value};
 
@@ -65,28 +67,28 @@ pub struct BodyArgs {
 #[derive(Args, Debug, Clone)]
 pub struct ParamArgs {
     /// Body length L (m).
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub length: f64,
     /// Density ρ (kg/m³).
-    #[arg(long, default_value_t = 7850.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 7850.0, allow_hyphen_values = true)]
     pub rho: f64,
     /// Area A (m²).
-    #[arg(long, default_value_t = 1e-4, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1e-4, allow_hyphen_values = true)]
     pub area: f64,
     /// I_y = ∫z² dA (m⁴).
-    #[arg(long, default_value_t = 1e-8 / 12.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1e-8 / 12.0, allow_hyphen_values = true)]
     pub iy: f64,
     /// I_z = ∫y² dA (m⁴).
-    #[arg(long, default_value_t = 1e-8 / 12.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1e-8 / 12.0, allow_hyphen_values = true)]
     pub iz: f64,
     /// Young's modulus E (Pa).
-    #[arg(long, default_value_t = 2.1e11, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 2.1e11, allow_hyphen_values = true)]
     pub e: f64,
     /// Shear modulus G (Pa).
-    #[arg(long, default_value_t = 8.1e10, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 8.1e10, allow_hyphen_values = true)]
     pub g: f64,
     /// Torsion constant J (m⁴).
-    #[arg(long, default_value_t = 1.406e-8, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.406e-8, allow_hyphen_values = true)]
     pub j: f64,
 }
 
@@ -128,9 +130,15 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     match cli.command {
         Some(Command::Invariants { body, params, json }) => {
             let p = params.values();
-            p.validate()?;
-            let g = ffr_codegen::generate(&body.spec()?, body.options())?;
+            // What can be checked without the body first, then against the
+            // parameters the body uses; results are checked before printing.
+            check_params(&p, &[])?;
+            let spec = body.spec()?;
+            let formalism = spec.formalism;
+            let g = ffr_codegen::generate(&spec, body.options())?;
+            check_params(&p, &g.used_params())?;
             let inv = g.eval_invariants(&p);
+            check_invariants(&inv, formalism)?;
             if json {
                 println!("{}", serde_json::to_string(&invariants_json(&inv))?);
             } else {
@@ -139,10 +147,9 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             Ok(())
         }
         Some(Command::Emit { body, type_name }) => {
-            if syn_ident_ok(&type_name).is_err() {
-                return Err(format!("--type-name `{type_name}` is not a Rust identifier").into());
-            }
+            check_type_name(&type_name, "--type-name")?;
             let g = ffr_codegen::generate(&body.spec()?, body.options())?;
+            check_literals(&g)?;
             let opts = EmitOptions {
                 type_name,
                 ..EmitOptions::default()
@@ -152,19 +159,6 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         }
         Some(Command::SpinUp(args)) => crate::spin_up::run(&args).map(|_| ()),
         None => crate::default_scene(),
-    }
-}
-
-fn syn_ident_ok(s: &str) -> Result<(), ()> {
-    let mut c = s.chars();
-    match c.next() {
-        Some(f) if f.is_ascii_alphabetic() || f == '_' => {}
-        _ => return Err(()),
-    }
-    if c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_') {
-        Ok(())
-    } else {
-        Err(())
     }
 }
 

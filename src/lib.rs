@@ -13,6 +13,7 @@ pub use nalgebra;
 pub mod cli;
 pub mod evaluated;
 pub mod free_floating;
+pub mod output;
 pub mod pendulum;
 pub mod plot;
 pub mod slider_crank;

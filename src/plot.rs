@@ -4,15 +4,26 @@ use crate::runtime::scenes::SpinUpResult;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// Tip displacement in the hub frame against time.
+/// Tip displacement in the hub frame against time, written to `path`
+/// atomically (see [`crate::output::write_atomic`]).
 pub fn tip_plot(
     path: &Path,
     title: &str,
     r: &SpinUpResult,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)?;
-    }
+    let svg = tip_svg(title, r)?;
+    crate::output::write_atomic(path, svg.as_bytes())?;
+    Ok(())
+}
+
+/// Tip displacement in the hub frame against time, as an SVG document.
+pub fn tip_svg(title: &str, r: &SpinUpResult) -> Result<String, Box<dyn std::error::Error>> {
+    let mut svg = String::new();
+    draw(&mut svg, title, r)?;
+    Ok(svg)
+}
+
+fn draw(svg: &mut String, title: &str, r: &SpinUpResult) -> Result<(), Box<dyn std::error::Error>> {
     let t_max = r.t.last().copied().unwrap_or(1.0).max(1e-9);
     let finite = r
         .tip_transverse
@@ -22,7 +33,7 @@ pub fn tip_plot(
         .filter(|v| v.is_finite());
     let (lo, hi) = finite.fold((0.0f64, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
     let pad = 0.05 * (hi - lo).max(1e-6);
-    let root = SVGBackend::new(path, (900, 500)).into_drawing_area();
+    let root = SVGBackend::with_string(svg, (900, 500)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(title, ("sans-serif", 20))

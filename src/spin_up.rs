@@ -5,9 +5,9 @@
 
 use crate::codegen::{BodySpec, Options, ParamValues, Reference, Shape};
 use crate::evaluated::EvaluatedBody;
+use crate::output;
 use crate::runtime::scenes::{self, SpinUp, SpinUpResult};
 use clap::{Args, ValueEnum};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -115,6 +115,15 @@ pub fn run(args: &SpinUpArgs) -> Result<Report, Box<dyn std::error::Error>> {
         .svg
         .clone()
         .unwrap_or_else(|| csv.with_extension("svg"));
+    // Refuse unusable outputs before the run, not after it.
+    output::check_file_path(&csv, "--csv")?;
+    output::check_file_path(&svg, "--svg")?;
+    let svg_flag = if args.svg.is_some() {
+        "--svg"
+    } else {
+        "the plot (by default the CSV path with extension .svg)"
+    };
+    output::check_distinct(&[("--csv", &csv), (svg_flag, &svg)])?;
 
     let spec = BodySpec::new(
         Shape::resolve("beam2", None)?,
@@ -178,18 +187,17 @@ pub fn run(args: &SpinUpArgs) -> Result<Report, Box<dyn std::error::Error>> {
     })
 }
 
-fn write_csv(path: &Path, r: &SpinUpResult) -> std::io::Result<()> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)?;
+/// `t,tip_axial,tip_transverse`, numbers in shortest round-trip form,
+/// written atomically.
+fn write_csv(path: &Path, r: &SpinUpResult) -> Result<(), output::OutputError> {
+    let mut s = String::from("t,tip_axial,tip_transverse\n");
+    for i in 0..r.t.len() {
+        s.push_str(&format!(
+            "{},{},{}\n",
+            output::number(r.t[i]),
+            output::number(r.tip_axial[i]),
+            output::number(r.tip_transverse[i])
+        ));
     }
-    let tmp = path.with_extension("csv.tmp");
-    {
-        let mut f = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
-        writeln!(f, "t,tip_axial,tip_transverse")?;
-        for i in 0..r.t.len() {
-            writeln!(f, "{},{},{}", r.t[i], r.tip_axial[i], r.tip_transverse[i])?;
-        }
-        f.flush()?;
-    }
-    std::fs::rename(&tmp, path)
+    output::write_atomic(path, s.as_bytes())
 }
