@@ -488,6 +488,9 @@ fn toml_message(message: &str, text: &str, offset: usize) -> String {
     let at_end = text
         .get(offset..)
         .map_or(true, |rest| rest.trim().is_empty());
+    if m.contains("recursion limit exceeded") {
+        return format!("{m}: arrays or tables nest too deeply");
+    }
     if m.is_empty() {
         if at_end {
             "the file ends too early: a string, array, inline table or value is not finished (is the file truncated?)".into()
