@@ -298,8 +298,7 @@ impl Parser<'_> {
         loop {
             if self.eat('-') {
                 negative = !negative;
-            } else if self.eat('+') {
-            } else {
+            } else if !self.eat('+') {
                 break;
             }
         }

@@ -428,3 +428,81 @@ fn legitimate_shapes_are_far_inside_the_limits() {
         }
     }
 }
+
+/// The most expensive shape the limits allow, roughly: 12 coordinates,
+/// 3 terms per entry (108 in all, within `MAX_SHAPE_TERMS`), 38-digit
+/// coefficients, every power of `l` up to `MAX_L_DEGREE`, degree 8 in `ξ`.
+fn costly_shape() -> String {
+    let kinds = ["ux", "uy", "uz", "rx", "ry", "rz"];
+    let mut coords = Vec::new();
+    for node in 0..2 {
+        for k in kinds {
+            coords.push(format!(
+                "{{ name = \"{k}{node}\", node = {node}, kind = \"{k}\" }}"
+            ));
+        }
+    }
+    let mut text = format!(
+        "name = \"costly\"\ndimension = 3\ncoordinates = [{}]\n[S]\n",
+        coords.join(", ")
+    );
+    let mut seed: u64 = 1;
+    let mut digits = || {
+        (0..38)
+            .map(|i| {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let d = (seed >> 60) % 10;
+                char::from(b'0' + if i == 0 { 1 + d % 9 } else { d } as u8)
+            })
+            .collect::<String>()
+    };
+    for row in ["x", "y", "z"] {
+        let mut entries = Vec::new();
+        for a in 0..12u32 {
+            let terms: Vec<String> = (0..3u32)
+                .map(|i| {
+                    let xi = (a + 3 * i) % 9;
+                    let l = (a + i) % (limits::MAX_L_DEGREE + 1);
+                    format!("{}e-38*xi^{xi}*l^{l}", digits())
+                })
+                .collect();
+            entries.push(format!("\"{}\"", terms.join(" + ")));
+        }
+        text += &format!("{row} = [{}]\n", entries.join(", "));
+    }
+    text
+}
+
+#[test]
+fn the_costliest_shapes_within_the_limits_take_seconds_not_minutes() {
+    let shape = Shape::parse(&costly_shape(), "costly.toml").unwrap();
+    let terms: usize = shape.rows.iter().flatten().map(|p| p.len()).sum();
+    assert!(terms <= limits::MAX_SHAPE_TERMS, "{terms}");
+    let spec = BodySpec::new(shape, 2, Reference::Free).unwrap();
+    let t = Instant::now();
+    let g = generate(&spec, Options::default()).unwrap();
+    let took = t.elapsed();
+    println!("costly shape, 2 elements, invariants and inertia terms: {took:?}");
+    // About 1 s in the test profile on a busy 2-core machine; 10 s catches a
+    // limit that no longer bounds the work.
+    assert!(took < Duration::from_secs(10), "{took:?}");
+    check_literals(&g).unwrap();
+}
+
+/// With geometric stiffening the exact energy is much larger (about 15 s
+/// in the test profile): `cargo test -p ffr-codegen --release --test
+/// regressions -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn the_costliest_shape_with_stiffening() {
+    let shape = Shape::parse(&costly_shape(), "costly.toml").unwrap();
+    let spec = BodySpec::new(shape, 2, Reference::Free).unwrap();
+    let t = Instant::now();
+    generate(&spec, Options { stiffening: true }).unwrap();
+    println!(
+        "costly shape, 2 elements, with stiffening: {:?}",
+        t.elapsed()
+    );
+}
