@@ -205,6 +205,7 @@ impl BeamSpec {
             stiffening: self.stiffening,
             scene_dim: scene,
             free_frame: true,
+            zero_frame_acceleration: false,
         };
         Ok(Kernels::Tape(Box::new(TapeKernels::new(&model)?)))
     }

@@ -13,8 +13,11 @@ pub use ffr_macros::*;
 pub use ffr_runtime as runtime;
 pub use nalgebra;
 
+pub mod cli;
 pub mod compiled;
 pub mod evaluated;
+pub mod output;
+pub mod plot;
 pub mod reference;
 pub mod scene;
 pub mod scenes;

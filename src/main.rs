@@ -1,23 +1,35 @@
-fn main() {
-    let a: Vec<String> = std::env::args().collect();
-    let scene = ffr::scene::load(std::path::Path::new(&a[1])).unwrap_or_else(|e| {
-        eprintln!("error: {e}");
-        std::process::exit(1)
-    });
-    println!("notes: {:?} kernels {:?}", scene.notes, scene.kernels);
-    let r = ffr::scene::run(&scene).unwrap();
-    let col = &r.columns[1];
-    let (i, m) =
-        col.iter().enumerate().fold(
-            (0, f64::INFINITY),
-            |(bi, b), (i, &v)| if v < b { (i, v) } else { (bi, b) },
-        );
-    println!("min tip_transverse {m} at {} ; wall {:.4}", r.t[i], r.wall);
-    let cfg = ffr::scenes::spin_up::SpinUp::new(4.0);
-    let s = ffr::scenes::spin_up::run(&cfg).unwrap();
-    let same = s.tip_transverse == r.columns[1] && s.tip_axial == r.columns[0];
-    println!(
-        "spin-up command peak {:?}; bit-identical: {same}",
-        s.min_transverse()
-    );
+use clap::Parser;
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    restore_sigpipe();
+    let cli = ffr::cli::Cli::parse();
+    match ffr::cli::run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }
+
+/// Rust ignores SIGPIPE, so writing to a closed pipe (`ffr emit | head`)
+/// returns an error and `print!` panics. Restore the default action, as
+/// other command-line tools have it: the process ends quietly when its
+/// reader goes away (the shell reports status 141).
+#[cfg(unix)]
+fn restore_sigpipe() {
+    const SIGPIPE: i32 = 13; // the same on Linux, macOS and the BSDs
+    const SIG_DFL: usize = 0;
+    extern "C" {
+        fn signal(signum: i32, handler: usize) -> usize;
+    }
+    // SAFETY: called once at start-up, before any other thread exists;
+    // SIG_DFL is a valid disposition for SIGPIPE.
+    unsafe {
+        signal(SIGPIPE, SIG_DFL);
+    }
+}
+
+#[cfg(not(unix))]
+fn restore_sigpipe() {}

@@ -9,10 +9,33 @@ fn ffr(args: &[&str]) -> (bool, String, String) {
         .args(args)
         .output()
         .expect("run ffr");
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    // Errors exit 1 (ours) or 2 (argument syntax, from clap); 101 is a panic.
+    assert!(
+        matches!(out.status.code(), Some(0..=2)),
+        "{args:?}: {:?}",
+        out.status
+    );
     (
         out.status.success(),
         String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
+        stderr,
+    )
+}
+
+/// A fresh temporary directory for one test.
+fn temp_dir(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("ffr-cli-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The bar shape with entry `S[x][u2]` replaced.
+fn bar(entry: &str) -> String {
+    format!(
+        "name = \"bar\"\ndimension = 2\ncoordinates = [\n  {{ name = \"u1\", node = 0, kind = \"ux\" }},\n  {{ name = \"u2\", node = 1, kind = \"ux\" }},\n]\n[S]\nx = [\"1 - xi\", \"{entry}\"]\ny = [\"0\", \"0\"]\n"
     )
 }
 
@@ -214,4 +237,286 @@ fn spin_up_rejects_bad_steps() {
     let (ok, _, err) = ffr(&["spin-up", "--dt", "0"]);
     assert!(!ok);
     assert!(err.contains("--dt must be a positive number"), "{err}");
+}
+
+#[test]
+fn type_names_that_are_not_identifiers_are_refused_without_a_panic() {
+    // Was: a panic (exit 101) for keywords.
+    for (name, expect) in [
+        ("fn", "--type-name `fn` is a Rust keyword"),
+        ("Self", "--type-name `Self` is a Rust keyword"),
+        ("_", "--type-name `_` is a Rust keyword"),
+        ("r#Arm", "is a raw identifier"),
+        ("f64", "is a primitive type name"),
+        (
+            "Arm\nfn",
+            "is not a Rust identifier (it contains the character U+000A)",
+        ),
+        ("9lives", "is not a Rust identifier"),
+    ] {
+        let (ok, out, err) = ffr(&["emit", "--type-name", name]);
+        assert!(!ok && out.is_empty(), "{name}");
+        assert!(err.contains(expect), "{name}: {err}");
+    }
+}
+
+#[test]
+fn physically_invalid_parameters_are_refused_naming_the_parameter() {
+    for (args, expect) in [
+        (
+            &["--area", "-1e-4"][..],
+            "parameter `area` must be positive, found -0.0001",
+        ),
+        (&["--rho", "0"], "parameter `rho` must be positive, found 0"),
+        (&["--e", "-2.1e11"], "parameter `e` must be positive"),
+        (&["--length", "0"], "parameter `length` must be positive"),
+        (&["--iy", "-1e-9"], "parameter `iy` must not be negative"),
+        (
+            &["--j", "0"],
+            "parameter `j` must be positive for this body, which uses it",
+        ),
+        (&["--g", "inf"], "parameter `g` must be finite"),
+    ] {
+        let mut a = vec!["invariants", "--shape", "beam3"];
+        a.extend(args);
+        let (ok, _, err) = ffr(&a);
+        assert!(!ok, "{args:?}");
+        assert!(err.contains(expect), "{args:?}: {err}");
+    }
+    // Zero where the shape does not use the parameter (beam2: iy, g, j).
+    let (ok, _, err) = ffr(&[
+        "invariants",
+        "--shape",
+        "beam2",
+        "--iy",
+        "0",
+        "--g",
+        "0",
+        "--j",
+        "0",
+    ]);
+    assert!(ok, "{err}");
+}
+
+#[test]
+fn non_finite_invariants_are_an_error_not_null() {
+    // Was: `null` in the JSON and exit 0.
+    let (ok, out, err) = ffr(&["invariants", "--length", "1e308", "--json"]);
+    assert!(!ok);
+    assert!(out.is_empty(), "{out}");
+    assert!(err.contains(" is inf at these parameters"), "{err}");
+    let (ok, _, err) = ffr(&[
+        "invariants",
+        "--rho",
+        "1e-300",
+        "--area",
+        "1e-300",
+        "--iy",
+        "1e-300",
+        "--iz",
+        "1e-300",
+        "--json",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("mff[0][0] (ux_1) is 0"), "{err}");
+}
+
+#[test]
+fn hostile_shape_files_give_clear_errors_quickly() {
+    let dir = temp_dir("hostile");
+    let cases = [
+        (
+            "wrap",
+            "((((xi^64)^64)^64)^64)^64",
+            "would give degree 64 in xi",
+        ),
+        ("pow2_31", "xi^(2^31)", "expected a whole number after `^`"),
+        ("hang", "((1+xi)^8)^64", "would give degree 512 in xi"),
+        ("coef", "1e300*1e300*xi", "MAX_COEFFICIENT_BITS"),
+        ("lpow", "xi*((l^64)^64)^8", "MAX_L_DEGREE"),
+    ];
+    let deep = format!("{}xi{}", "(".repeat(8000), ")".repeat(8000));
+    let minus = format!("{}xi", "-".repeat(50_001));
+    let mut all: Vec<(&str, String, &str)> = cases
+        .iter()
+        .map(|&(n, e, m)| (n, e.to_string(), m))
+        .collect();
+    all.push(("deep", deep, "MAX_NESTING_DEPTH"));
+    for (name, entry, expect) in &all {
+        let path = dir.join(format!("{name}.toml"));
+        std::fs::write(&path, bar(entry)).unwrap();
+        let p = path.to_str().unwrap();
+        for formalism in ["consistent", "lumped"] {
+            let t = std::time::Instant::now();
+            let (ok, _, err) = ffr(&["invariants", "--shape", p, "--formalism", formalism]);
+            assert!(t.elapsed().as_secs_f64() < 5.0, "{name}: {:?}", t.elapsed());
+            assert!(!ok, "{name}");
+            assert!(err.contains(&format!("{p}:8:")), "{name}: {err}");
+            assert!(err.contains(expect), "{name}: {err}");
+        }
+    }
+    // 50 001 minus signs: read in a loop, an odd count is a minus.
+    let path = dir.join("minus.toml");
+    std::fs::write(&path, bar(&minus)).unwrap();
+    let (ok, out, err) = ffr(&["invariants", "--shape", path.to_str().unwrap(), "--json"]);
+    assert!(ok, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert!(v["Sbar"][0][0].as_f64().unwrap() < 0.0);
+    // A name that would inject code.
+    let path = dir.join("inject.toml");
+    std::fs::write(
+        &path,
+        bar("xi").replace("name = \"bar\"", "name = \"x\\nfn main() {}\""),
+    )
+    .unwrap();
+    let (ok, out, err) = ffr(&["emit", "--shape", path.to_str().unwrap()]);
+    assert!(!ok && out.is_empty());
+    assert!(
+        err.contains(
+            "inject.toml:1:9: shape name `x\\nfn main() {}` contains the character U+000A"
+        ),
+        "{err}"
+    );
+    // A truncated file says so.
+    let text = bar("xi");
+    let path = dir.join("cut.toml");
+    std::fs::write(&path, &text[..text.len() - 3]).unwrap();
+    let (ok, _, err) = ffr(&["invariants", "--shape", path.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(err.contains("truncated"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn dev_zero_is_refused_at_once() {
+    // Was: memory grew without bound.
+    if !std::path::Path::new("/dev/zero").exists() {
+        return;
+    }
+    let t = std::time::Instant::now();
+    let (ok, _, err) = ffr(&["invariants", "--shape", "/dev/zero"]);
+    assert!(!ok);
+    assert!(t.elapsed().as_secs_f64() < 5.0);
+    assert!(
+        err.contains("/dev/zero: larger than 1048576 bytes"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_broken_pipe_ends_quietly() {
+    // Was: a panic message and exit 101 for `ffr emit | head`.
+    use std::io::Read;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ffr"))
+        .args(["emit", "--shape", "beam3", "--elements", "16"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut head = [0u8; 64];
+    child.stdout.take().unwrap().read_exact(&mut head).unwrap(); // then closed
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    let status = child.wait().unwrap();
+    assert!(err.is_empty(), "{err}");
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt;
+        assert!(
+            status.success() || status.signal() == Some(13),
+            "{status:?}"
+        );
+    }
+    #[cfg(not(unix))]
+    assert!(status.code() != Some(101), "{status:?}");
+}
+
+#[test]
+fn spin_up_outputs_are_checked_before_the_run() {
+    let dir = temp_dir("outputs");
+    let d = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    // `--csv x.svg`: the default plot path would be the CSV itself.
+    let (ok, _, err) = ffr(&["spin-up", "--csv", &d("x.svg")]);
+    assert!(!ok);
+    assert!(err.contains("x.svg: --csv and the plot"), "{err}");
+    assert!(err.contains("would both write this file"), "{err}");
+    let (ok, _, err) = ffr(&["spin-up", "--csv", &d("a.csv"), "--svg", &d("./a.csv")]);
+    assert!(!ok);
+    assert!(
+        err.contains("--csv and --svg would both write this file"),
+        "{err}"
+    );
+    // A directory as --csv: refused, nothing left behind.
+    std::fs::create_dir_all(dir.join("out")).unwrap();
+    let (ok, _, err) = ffr(&["spin-up", "--csv", &d("out")]);
+    assert!(!ok);
+    assert!(
+        err.contains(&format!("{}: is a directory", d("out"))),
+        "{err}"
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(left, ["out"]);
+    assert_eq!(std::fs::read_dir(dir.join("out")).unwrap().count(), 0);
+    // A file where a directory should be: the error names the path.
+    std::fs::write(dir.join("file"), "x").unwrap();
+    let (ok, _, err) = ffr(&[
+        "spin-up",
+        "--elements",
+        "1",
+        "--t-end",
+        "0.02",
+        "--csv",
+        &d("file/run.csv"),
+    ]);
+    assert!(!ok);
+    assert!(
+        err.contains("file/run.csv: cannot create the directory"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn spin_up_csv_numbers_are_short_and_exact() {
+    // Was: tiny values printed as 40-character decimals (`{}` of f64 never
+    // uses an exponent).
+    let dir = temp_dir("csv");
+    let csv = dir.join("run.csv");
+    let (ok, _, err) = ffr(&[
+        "spin-up",
+        "--elements",
+        "2",
+        "--t-end",
+        "0.05",
+        "--dt",
+        "0.01",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut tiny = false;
+    for line in text.lines().skip(1) {
+        for field in line.split(',') {
+            assert!(field.len() <= 24, "{field}");
+            let x: f64 = field.parse().unwrap();
+            tiny |= x != 0.0 && x.abs() < 1e-6;
+        }
+    }
+    assert!(
+        tiny,
+        "expected some tiny displacements early in the run:\n{text}"
+    );
+    assert!(dir.join("run.svg").exists());
+    let left = std::fs::read_dir(&dir).unwrap().count();
+    assert_eq!(left, 2, "no temporary files left");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -13,6 +13,7 @@ fn main() {
         stiffening: stiff,
         scene_dim,
         free_frame: free,
+        zero_frame_acceleration: false,
     })
     .unwrap();
     let gen = t.elapsed();

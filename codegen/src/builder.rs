@@ -28,6 +28,8 @@ use crate::emit::{emit_body_file, emit_kernels_file, EmitOptions};
 use crate::eom::KernelModel;
 use crate::error::Error;
 use crate::kernel::generate_kernels;
+use crate::limits::check_literals;
+use crate::sanitize::{check_identifier, check_type_name};
 use crate::shape::Shape;
 use ffr_spec::Stiffening;
 use std::path::{Path, PathBuf};
@@ -49,6 +51,8 @@ pub struct KernelConfig {
     /// Generate the reference rows for a freely moving frame (default yes);
     /// `false` only supports prescribed frame motion.
     pub free_frame: bool,
+    /// `ā ≡ 0`: frame origin fixed and no gravity (default no).
+    pub zero_frame_acceleration: bool,
 }
 
 impl KernelConfig {
@@ -62,6 +66,7 @@ impl KernelConfig {
             stiffening: Stiffening::Off,
             scene_dim: None,
             free_frame: true,
+            zero_frame_acceleration: false,
         }
     }
     /// The inertia formalism.
@@ -106,6 +111,7 @@ impl KernelConfig {
             stiffening: self.stiffening,
             scene_dim,
             free_frame: self.free_frame,
+            zero_frame_acceleration: self.zero_frame_acceleration,
         })
     }
 }
@@ -160,6 +166,7 @@ impl BodyConfig {
 enum Entry {
     Body(BodyConfig),
     Kernels(KernelConfig),
+    Scene { name: String, path: String },
 }
 
 impl Entry {
@@ -167,14 +174,34 @@ impl Entry {
         match self {
             Entry::Body(b) => &b.kernels.name,
             Entry::Kernels(k) => &k.name,
+            Entry::Scene { name, .. } => name,
         }
     }
     fn shape(&self) -> &str {
         match self {
             Entry::Body(b) => &b.kernels.shape,
             Entry::Kernels(k) => &k.shape,
+            Entry::Scene { path, .. } => path,
         }
     }
+}
+
+/// `name` in snake case (`ArmScene` → `arm_scene`, `two-link arm` → `two_link_arm`).
+pub fn snake_case(name: &str) -> String {
+    let mut out = String::new();
+    for (i, ch) in name.chars().enumerate() {
+        if ch.is_ascii_uppercase() {
+            if i > 0 && !out.ends_with('_') {
+                out.push('_');
+            }
+            out.push(ch.to_ascii_lowercase());
+        } else if ch.is_ascii_alphanumeric() {
+            out.push(ch);
+        } else if !out.ends_with('_') {
+            out.push('_');
+        }
+    }
+    out.trim_matches('_').to_string()
 }
 
 /// Generates FFR code from a build script (see the [module docs](self)).
@@ -227,6 +254,31 @@ impl Builder {
     /// Add a body with a fixed mesh.
     pub fn body(mut self, body: BodyConfig) -> Self {
         self.entries.push(Entry::Body(body));
+        self
+    }
+
+    /// Add a scene file (relative to the crate root): the specialized kernels
+    /// of its flexible bodies and a scene type (the CamelCase of the file
+    /// stem plus `Scene`, e.g. `ArmScene` for `scenes/arm.toml`, in
+    /// `arm.rs`) whose `load()` builds the scene from the embedded file with
+    /// these kernels: it simulates bit for bit like `ffr run` on the file.
+    pub fn scene(self, path: impl AsRef<str>) -> Self {
+        let p = path.as_ref().to_string();
+        let stem = Path::new(&p)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "scene".into());
+        let name = snake_case(&stem);
+        self.scene_named(&name, p)
+    }
+
+    /// [`Builder::scene`] with an explicit name (file `<name>.rs`, type
+    /// CamelCase of `name` plus `Scene`).
+    pub fn scene_named(mut self, name: &str, path: impl AsRef<str>) -> Self {
+        self.entries.push(Entry::Scene {
+            name: name.to_string(),
+            path: path.as_ref().to_string(),
+        });
         self
     }
 
@@ -294,6 +346,7 @@ impl Builder {
                     let spec = BodySpec::new(model.shape.clone(), b.elements, b.reference)?
                         .with_formalism(b.kernels.formalism);
                     let set = generate_kernels(&model)?;
+                    check_literals(&set)?;
                     let opts = EmitOptions {
                         type_name: type_name.clone(),
                         define_struct: true,
@@ -305,11 +358,21 @@ impl Builder {
                     let model = k.model(&base)?;
                     let shape_file = model.shape.path.clone();
                     let set = generate_kernels(&model)?;
+                    check_literals(&set)?;
                     (
                         emit_kernels_file(&set, &type_name, &self.runtime_path),
                         shape_file,
                     )
                 }
+                Entry::Scene { path, .. } => (
+                    crate::emit::emit_scene_file(
+                        &base.join(path),
+                        path,
+                        &format!("{type_name}Scene"),
+                        &self.runtime_path,
+                    )?,
+                    Some(base.join(path)),
+                ),
             };
             files.push(GeneratedFile {
                 name: name.to_string(),
@@ -400,17 +463,16 @@ pub fn resolve_shape(name_or_path: &str, base: &Path) -> Result<Shape, Error> {
     }
 }
 
-/// The generated type name of body `name`: its CamelCase, after checking that
-/// both are Rust identifiers.
+/// The generated type name of body `name`: its CamelCase, after checking
+/// that `name` is a plain ASCII Rust identifier that is not a keyword (see
+/// [`crate::sanitize::check_identifier`]) and that the CamelCase is a valid
+/// type name.
 pub fn type_name_of(name: &str) -> Result<String, Error> {
-    let bad = |why: &str| {
-        Error::Body(format!(
-            "body name `{name}` is not a Rust identifier{why} (expected e.g. `arm` or `two_link_arm`)"
+    check_identifier(name, "body name").map_err(|m| {
+        Error::Name(format!(
+            "{m} (a body name must be a Rust identifier, e.g. `arm` or `two_link_arm`)"
         ))
-    };
-    if name.starts_with("r#") || syn::parse_str::<syn::Ident>(name).is_err() {
-        return Err(bad(""));
-    }
+    })?;
     let camel: String = name
         .split('_')
         .filter(|part| !part.is_empty())
@@ -420,9 +482,16 @@ pub fn type_name_of(name: &str) -> Result<String, Error> {
             first.into_iter().chain(c).collect::<String>()
         })
         .collect();
-    if camel.is_empty() || syn::parse_str::<syn::Ident>(&camel).is_err() {
-        return Err(bad(&format!(", or its type name `{camel}` is not")));
+    if camel.is_empty() {
+        return Err(Error::Name(format!(
+            "body name `{name}` has no letters or digits for its type name (expected e.g. `arm` or `two_link_arm`)"
+        )));
     }
+    check_type_name(&camel, "type name").map_err(|m| {
+        Error::Name(format!(
+            "body name `{name}` gives a type name that is not allowed: {m}"
+        ))
+    })?;
     Ok(camel)
 }
 
@@ -495,15 +564,10 @@ y = ["0", "1 - xi", "0", "xi"]
         assert_eq!(type_name_of("two_link_arm").unwrap(), "TwoLinkArm");
         assert_eq!(type_name_of("arm_2").unwrap(), "Arm2");
         for bad in [
-            "", "2arm", "my-arm", "arm.rs", "self", "r#arm", "_", "self_",
+            "", "2arm", "my-arm", "arm.rs", "self", "r#arm", "_", "self_", "fn", "gen", "ärm", "__",
         ] {
             let e = type_name_of(bad).unwrap_err().to_string();
-            assert!(
-                e.starts_with(&format!(
-                    "invalid body: body name `{bad}` is not a Rust identifier"
-                )),
-                "{e}"
-            );
+            assert!(e.starts_with(&format!("body name `{bad}`")), "{e}");
         }
     }
 

@@ -41,6 +41,9 @@ pub struct KernelModel {
     /// derivatives, for bodies whose frame moves freely. Without them only
     /// the elastic equations are generated (frame motion prescribed).
     pub free_frame: bool,
+    /// `ā = Aᵀ(R̈ − g) ≡ 0`: the frame origin is fixed and there is no
+    /// gravity, so no `ā` terms are generated.
+    pub zero_frame_acceleration: bool,
 }
 
 /// An output array of a kernel.
@@ -178,7 +181,8 @@ impl KernelModel {
 
         // Frame inputs (zero where a planar scene has none).
         let planar = self.scene_dim == 2;
-        let live = |k: usize| !(planar && matches!(k, 2 | 3 | 4 | 6 | 7));
+        let zero_a = self.zero_frame_acceleration;
+        let live = |k: usize| !(planar && matches!(k, 2 | 3 | 4 | 6 | 7)) && !(zero_a && k < 3);
         let f = |k: usize| if live(k) { frame(k) } else { Poly::zero() };
         let a_bar = [f(0), f(1), f(2)];
         let alpha = [f(3), f(4), f(5)];

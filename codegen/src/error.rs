@@ -16,7 +16,10 @@ pub struct Location {
 impl Location {
     /// The location of byte `offset` in `text`.
     pub fn of(file: &str, text: &str, offset: usize) -> Location {
-        let offset = offset.min(text.len());
+        let mut offset = offset.min(text.len());
+        while !text.is_char_boundary(offset) {
+            offset -= 1;
+        }
         let before = &text[..offset];
         let line = before.matches('\n').count() + 1;
         let line_start = before.rfind('\n').map_or(0, |i| i + 1);
@@ -38,6 +41,14 @@ impl fmt::Display for Location {
 /// Everything that can go wrong between a shape description and generated code.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum Error {
+    /// A scene file that does not parse or does not make sense.
+    #[error("{location}: {message}")]
+    Scene {
+        /// Where.
+        location: Location,
+        /// What was found and what is allowed.
+        message: String,
+    },
     /// A shape file that does not parse or does not make sense.
     #[error("{location}: {message}")]
     Shape {
@@ -73,4 +84,25 @@ pub enum Error {
         /// The monomial.
         term: String,
     },
+    /// A parameter value that is not valid (non-finite, or physically
+    /// impossible: non-positive density, negative second moment, …).
+    #[error("parameter `{name}` {message}")]
+    Parameter {
+        /// The parameter's field name (`rho`, `area`, …).
+        name: String,
+        /// What is wrong, with the value found.
+        message: String,
+    },
+    /// A computed result that is not valid: a number that is not finite, a
+    /// mass matrix diagonal that is not positive, a literal beyond `f64`.
+    #[error("{quantity} {message}")]
+    Invalid {
+        /// The quantity, as `invariants --json` names it (`Kff[0][0]`).
+        quantity: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A name that cannot be used in generated code (type or body name).
+    #[error("{0}")]
+    Name(String),
 }

@@ -23,8 +23,11 @@ pub mod eom;
 pub mod error;
 pub mod expr;
 pub mod kernel;
+pub mod limits;
 pub mod poly;
 pub mod program;
+pub mod sanitize;
+pub mod scene;
 pub mod shape;
 
 pub use body::{BodySpec, Dof, ExactInvariants, Formalism, Reference};

@@ -138,7 +138,14 @@ impl Monomial {
                 out.push(b[j]);
                 j += 1;
             } else {
-                let e = a[i].1 + b[j].1;
+                // Shape files are limited (crate::limits) so that exponents
+                // stay far inside i32; never wrap silently.
+                let e = a[i].1.checked_add(b[j].1).unwrap_or_else(|| {
+                    panic!(
+                        "exponent overflow: {}^{} · {}^{} does not fit in i32 (a bug: crate::limits should have refused the input)",
+                        a[i].0, a[i].1, b[j].0, b[j].1
+                    )
+                });
                 if e != 0 {
                     out.push((a[i].0, e));
                 }
@@ -313,7 +320,7 @@ impl Poly {
         }
     }
 
-    /// `self^n`.
+    /// `self^n` (exponents checked through [`Monomial::mul`]).
     pub fn pow(&self, n: u32) -> Poly {
         let mut p = Poly::int(1);
         for _ in 0..n {

@@ -15,7 +15,12 @@
 
 use crate::error::{Error, Location};
 use crate::expr::parse_poly;
+use crate::limits::{
+    MAX_COORDINATES, MAX_COORDINATE_NAME_CHARS, MAX_DESCRIPTION_CHARS, MAX_SHAPE_NAME_CHARS,
+    MAX_SHAPE_TERMS, MAX_SOURCE_BYTES,
+};
 use crate::poly::{Poly, Sym};
+use crate::sanitize::{check_name, snippet};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -101,12 +106,9 @@ impl Shape {
             .map(|(n, text)| Shape::parse(text, &format!("built-in {n}")))
     }
 
-    /// Read a shape file.
+    /// Read a shape file (at most [`MAX_SOURCE_BYTES`], UTF-8).
     pub fn from_file(path: &Path) -> Result<Shape, Error> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
+        let text = read_source(path)?;
         let mut shape = Shape::parse(&text, &path.display().to_string())?;
         shape.path = Some(path.to_path_buf());
         Ok(shape)
@@ -137,15 +139,40 @@ impl Shape {
 
     /// Parse and validate a shape description; `origin` names it in errors.
     pub fn parse(text: &str, origin: &str) -> Result<Shape, Error> {
+        let shown_origin = snippet(origin, usize::MAX);
         let at = |offset: usize, message: String| Error::Shape {
-            location: Location::of(origin, text, offset),
+            location: Location::of(&shown_origin, text, offset),
             message,
         };
+        if text.len() as u64 > MAX_SOURCE_BYTES {
+            return Err(at(
+                0,
+                format!(
+                    "the shape description is {} bytes long: more than the limit of {MAX_SOURCE_BYTES} bytes (MAX_SOURCE_BYTES)",
+                    text.len()
+                ),
+            ));
+        }
         let raw: RawShape = toml::from_str(text).map_err(|e| {
-            let offset = e.span().map_or(0, |s| s.start);
-            let message = e.message().trim().to_string();
-            at(offset, message)
+            let offset = e.span().map_or(text.len(), |s| s.start);
+            at(offset, toml_message(e.message(), text, offset))
         })?;
+        let name = raw.name.get_ref();
+        check_name(name, "shape name", MAX_SHAPE_NAME_CHARS).map_err(|(i, m)| {
+            at(
+                string_content_offset(text, raw.name.span().start, name) + i,
+                m,
+            )
+        })?;
+        if raw.description.chars().count() > MAX_DESCRIPTION_CHARS {
+            return Err(at(
+                0,
+                format!(
+                    "the description is {} characters long: at most {MAX_DESCRIPTION_CHARS} are allowed (MAX_DESCRIPTION_CHARS)",
+                    raw.description.chars().count()
+                ),
+            ));
+        }
 
         let dimension = *raw.dimension.get_ref();
         if dimension != 2 && dimension != 3 {
@@ -156,17 +183,26 @@ impl Shape {
         }
         let dimension = dimension as usize;
 
+        if raw.coordinates.get_ref().len() > MAX_COORDINATES {
+            return Err(at(
+                raw.coordinates.span().start,
+                format!(
+                    "{} coordinates: a shape has at most {MAX_COORDINATES} (each of the two nodes at most once each of ux, uy, uz, rx, ry, rz)",
+                    raw.coordinates.get_ref().len()
+                ),
+            ));
+        }
         let mut coordinates = Vec::new();
         let mut seen_names = BTreeMap::new();
         let mut seen_slots = BTreeMap::new();
         for c in raw.coordinates.get_ref() {
             let name = c.name.get_ref().clone();
-            if name.is_empty() {
-                return Err(at(
-                    c.name.span().start,
-                    "a coordinate name must not be empty".into(),
-                ));
-            }
+            check_name(&name, "coordinate name", MAX_COORDINATE_NAME_CHARS).map_err(|(i, m)| {
+                at(
+                    string_content_offset(text, c.name.span().start, &name) + i,
+                    m,
+                )
+            })?;
             if seen_names.insert(name.clone(), ()).is_some() {
                 return Err(at(
                     c.name.span().start,
@@ -255,6 +291,7 @@ impl Shape {
             }
         }
         let mut rows = Vec::new();
+        let mut shape_terms = 0usize;
         for &r in row_names {
             let (_, entries) = table
                 .iter()
@@ -282,30 +319,45 @@ impl Shape {
             for (a, entry) in entries.get_ref().iter().enumerate() {
                 let content_start =
                     string_content_offset(text, entry.span().start, entry.get_ref());
+                let shown = snippet(entry.get_ref(), 60);
                 let poly = parse_poly(entry.get_ref()).map_err(|e| {
                     at(
                         content_start + e.offset,
-                        format!(
-                            "S[{r}][{}] (`{}`): {}",
-                            coordinates[a].name,
-                            entry.get_ref(),
-                            e.message
-                        ),
+                        format!("S[{r}][{}] (`{shown}`): {}", coordinates[a].name, e.message),
                     )
                 })?;
                 check_entry(&poly, dimension).map_err(|m| {
                     at(
                         content_start,
-                        format!(
-                            "S[{r}][{}] (`{}`): {m}",
-                            coordinates[a].name,
-                            entry.get_ref()
-                        ),
+                        format!("S[{r}][{}] (`{shown}`): {m}", coordinates[a].name),
                     )
                 })?;
+                shape_terms += poly.len();
+                if shape_terms > MAX_SHAPE_TERMS {
+                    return Err(at(
+                        content_start,
+                        format!(
+                            "S[{r}][{}] (`{shown}`): the entries of S have {shape_terms} terms together up to here, more than the limit of {MAX_SHAPE_TERMS} (MAX_SHAPE_TERMS)",
+                            coordinates[a].name
+                        ),
+                    ));
+                }
                 row.push(poly);
             }
             rows.push(row);
+        }
+        // A coordinate whose column of S is zero moves nothing: it would have
+        // no mass and no stiffness.
+        for (a, c) in raw.coordinates.get_ref().iter().enumerate() {
+            if rows.iter().all(|row| row[a].is_zero()) {
+                return Err(at(
+                    c.name.span().start,
+                    format!(
+                        "coordinate `{}` has a zero column in S: it moves nothing, so it would have no mass and no stiffness",
+                        coordinates[a].name
+                    ),
+                ));
+            }
         }
         Ok(Shape {
             name: raw.name.into_inner(),
@@ -342,6 +394,71 @@ impl Shape {
             .filter(|c| c.node == 0)
             .map(|c| c.kind)
             .collect()
+    }
+}
+
+/// Read a shape file through a bound of [`MAX_SOURCE_BYTES`] (so that a
+/// device or a huge file fails at once), as UTF-8.
+fn read_source(path: &Path) -> Result<String, Error> {
+    use std::io::Read;
+    let shown = snippet(&path.display().to_string(), usize::MAX);
+    let io = |message: String| Error::Io {
+        path: shown.clone(),
+        message,
+    };
+    if path.is_dir() {
+        return Err(io("is a directory, not a shape file".into()));
+    }
+    let file = std::fs::File::open(path).map_err(|e| io(e.to_string()))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_SOURCE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| io(e.to_string()))?;
+    if bytes.len() as u64 > MAX_SOURCE_BYTES {
+        return Err(io(format!(
+            "larger than {MAX_SOURCE_BYTES} bytes, the limit for shape files (MAX_SOURCE_BYTES): not read"
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        let good = e.utf8_error().valid_up_to();
+        let bytes = e.as_bytes();
+        let valid = std::str::from_utf8(&bytes[..good]).unwrap_or_default();
+        Error::Shape {
+            location: Location::of(&shown, valid, good),
+            message: format!(
+                "the file is not UTF-8 text (byte 0x{:02x} at byte offset {good})",
+                bytes[good]
+            ),
+        }
+    })
+}
+
+/// The TOML parser's message, completed where it is empty or says only
+/// that the input ended.
+fn toml_message(message: &str, text: &str, offset: usize) -> String {
+    let lines: Vec<&str> = message
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    let joined = lines.join(": ");
+    let m = joined.as_str();
+    let at_end = text
+        .get(offset..)
+        .map_or(true, |rest| rest.trim().is_empty());
+    if m.contains("recursion limit exceeded") {
+        return format!("{m}: arrays or tables nest too deeply");
+    }
+    if m.is_empty() {
+        if at_end {
+            "the file ends too early: a string, array, inline table or value is not finished (is the file truncated?)".into()
+        } else {
+            "invalid TOML here".into()
+        }
+    } else if at_end && !m.contains("missing field") {
+        format!("{m} (the file ends here: is it truncated?)")
+    } else {
+        m.to_string()
     }
 }
 

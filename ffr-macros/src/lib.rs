@@ -340,8 +340,11 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
         stiffening: args.stiffening.unwrap_or(Stiffening::Off),
         scene_dim,
         free_frame: true,
+        zero_frame_acceleration: false,
     };
     let generated = generate_kernels(&model).map_err(|e| Error::new_spanned(&shape_lit, e))?;
+    ffr_codegen::limits::check_literals(&generated)
+        .map_err(|e| Error::new_spanned(&shape_lit, e))?;
 
     check_fields(&strukt, &generated.params_used(), &shape_name)?;
 

@@ -113,19 +113,34 @@ pub struct ParamError {
     pub value: f64,
 }
 
+impl ParamError {
+    /// What is wrong with the value, e.g. `must be positive, found -1`.
+    pub fn reason(&self) -> String {
+        let v = self.value;
+        if !v.is_finite() {
+            format!("must be finite, found {v}")
+        } else if v < 0.0 {
+            if self.param.must_be_positive() {
+                format!("must be positive, found {v}")
+            } else {
+                format!("must not be negative, found {v}")
+            }
+        } else if self.param.must_be_positive() {
+            format!("must be positive, found {v}")
+        } else {
+            format!("must be positive for this body, which uses it, found {v}")
+        }
+    }
+}
+
 impl fmt::Display for ParamError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let need = if self.param.must_be_positive() {
-            "a finite number > 0"
-        } else {
-            "a finite number ≥ 0"
-        };
         write!(
             f,
-            "parameter `{}` ({}) must be {need}, found {}",
+            "parameter `{}` {} ({})",
             self.param.field(),
-            self.param.doc(),
-            self.value
+            self.reason(),
+            self.param.doc()
         )
     }
 }
@@ -174,7 +189,7 @@ impl Params {
     /// Every value finite; `length, rho, area, e` strictly positive;
     /// `iy, iz, g, j` not negative.
     pub fn validate(&self) -> Result<(), ParamError> {
-        self.validate_only(&Param::FIELDS)
+        self.validate_only(&[])
     }
 
     /// [`Params::validate`] for the parameters in `used` only (a shape that

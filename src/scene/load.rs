@@ -3,13 +3,14 @@
 //! joint to the ground and an angle drive determine completely gets its frame
 //! coordinates prescribed, so it runs its elastic equations only).
 
-use super::file::{
-    RawBody, RawForce, RawIntegrator, RawJoint, RawMotor, RawOutput, RawProfile, RawScene,
+use crate::codegen::scene::{
+    flex_models, FlexBodyModel, RawBody, RawForce, RawIntegrator, RawMotor, RawOutput,
+    RawProfile, RawScene,
 };
 use crate::codegen::Location;
 use crate::compiled::{BeamSpec, Kernels};
 use crate::runtime::nalgebra::{Matrix3, Unit, UnitQuaternion, Vector2, Vector3};
-use crate::runtime::spec::{Formalism, Param, Params, Reference, Stiffening};
+use crate::runtime::spec::{Formalism, Param, Params, Reference};
 use crate::runtime::{
     Body, BodyId, Driver, ElementKernels, GeneralizedAlpha, Integrator, KernelBody, Marker, Pose,
     Rayleigh, RigidBody, Rk4Baumgarte, System, TorqueLaw,
@@ -40,8 +41,18 @@ impl fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
-/// The most bytes a scene file may have.
-pub const MAX_SCENE_BYTES: u64 = 1 << 20;
+fn scene_error(e: crate::codegen::Error) -> SceneError {
+    match e {
+        crate::codegen::Error::Scene { location, message } => SceneError {
+            location: Some(location),
+            message,
+        },
+        other => SceneError {
+            location: None,
+            message: other.to_string(),
+        },
+    }
+}
 
 /// What an output column records.
 #[derive(Clone, Debug, PartialEq)]
@@ -91,34 +102,47 @@ pub struct Output {
 /// How a flexible body of a scene is made.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FlexSpec {
-    /// Body name.
-    pub name: String,
-    /// The beam (shape, mesh, options, parameters).
+    /// What the generator needs (options, what the scene fixes).
+    pub model: FlexBodyModel,
+    /// The beam (shape resolved against the scene file, mesh, parameters).
     pub beam: BeamSpec,
-    /// Whether its frame moves freely (else every frame coordinate is prescribed).
-    pub free_frame: bool,
 }
 
 /// Supplies the element kernels of a scene's flexible bodies: the built-in
 /// compiled ones or tapes (`ffr run`), or a compiled scene's own.
 pub trait KernelProvider {
-    /// The kernels for `spec` (scene dimension and frame freedom decided).
+    /// The kernels for `spec`, and how they run (`compiled`, `tape`, …).
+    #[allow(clippy::type_complexity)]
     fn kernels(
         &self,
         spec: &FlexSpec,
-    ) -> Result<Box<dyn ElementKernels>, Box<dyn std::error::Error>>;
+    ) -> Result<(Box<dyn ElementKernels>, &'static str), Box<dyn std::error::Error>>;
 }
 
-/// Built-in compiled kernels when they exist, else tapes.
+/// Built-in compiled kernels when they exist, else tapes of the body's
+/// specialized kernels.
 pub struct DefaultKernels;
 
 impl KernelProvider for DefaultKernels {
     fn kernels(
         &self,
         spec: &FlexSpec,
-    ) -> Result<Box<dyn ElementKernels>, Box<dyn std::error::Error>> {
+    ) -> Result<(Box<dyn ElementKernels>, &'static str), Box<dyn std::error::Error>> {
         let k: Kernels = spec.beam.kernels()?;
-        Ok(Box::new(k))
+        if let Kernels::Compiled(_) = k {
+            return Ok((Box::new(k), "compiled"));
+        }
+        let shape = crate::codegen::Shape::resolve(&spec.beam.shape, None)?;
+        let m = &spec.model;
+        let model = crate::codegen::KernelModel {
+            shape,
+            formalism: m.formalism,
+            stiffening: m.stiffening,
+            scene_dim: m.scene_dim,
+            free_frame: m.free_frame,
+            zero_frame_acceleration: m.zero_frame_acceleration,
+        };
+        Ok((Box::new(crate::evaluated::TapeKernels::new(&model)?), "tape"))
     }
 }
 
@@ -214,18 +238,7 @@ pub fn load_with(
     provider: &dyn KernelProvider,
 ) -> Result<Scene, Box<dyn std::error::Error>> {
     let file = path.display().to_string();
-    let meta = std::fs::metadata(path).map_err(|e| format!("{file}: {e}"))?;
-    if meta.is_dir() {
-        return Err(format!("{file}: is a directory, not a scene file").into());
-    }
-    if meta.len() > MAX_SCENE_BYTES {
-        return Err(format!(
-            "{file}: {} bytes; a scene file may have at most {MAX_SCENE_BYTES}",
-            meta.len()
-        )
-        .into());
-    }
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: {e}"))?;
+    let text = crate::codegen::scene::read(path)?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     Ok(from_str(&text, &file, &base, provider)?)
 }
@@ -239,35 +252,8 @@ pub fn from_str(
     provider: &dyn KernelProvider,
 ) -> Result<Scene, SceneError> {
     let c = Ctx { file, text };
-    let raw: RawScene = toml::from_str(text).map_err(|e| {
-        let offset = e.span().map_or(0, |s| s.start);
-        let msg = e.message().trim().to_string();
-        SceneError {
-            location: Some(Location::of(file, text, offset)),
-            message: if msg.is_empty() {
-                "the file is not valid TOML".into()
-            } else {
-                msg
-            },
-        }
-    })?;
+    let raw: RawScene = crate::codegen::scene::parse(text, file).map_err(scene_error)?;
     build(&c, raw, base, provider)
-}
-
-fn parse_stiffening(c: &Ctx, v: &Spanned<toml::Value>) -> Result<Stiffening, SceneError> {
-    match v.get_ref() {
-        toml::Value::Boolean(b) => Ok(Stiffening::from_bool(*b)),
-        toml::Value::String(s) if s == "second-order" || s == "fourth-order" || s == "off" => {
-            Ok(s.parse().expect("checked"))
-        }
-        other => Err(c.err(
-            v.span(),
-            format!(
-                "`stiffening` must be true, false, \"second-order\" or \"fourth-order\", found {}",
-                other.type_str()
-            ),
-        )),
-    }
 }
 
 const PARAMS: &str = "length, rho, area, iy, iz, e, g, j";
@@ -514,37 +500,14 @@ fn integrator(c: &Ctx, r: &Option<Spanned<RawIntegrator>>) -> Result<Integrator,
     }
 }
 
-/// A revolute joint between a ground point and a body's frame origin with an
-/// angle drive and nothing else: the body's frame is fully prescribed.
-fn folds(j: &RawJoint, dim: usize) -> bool {
-    j.kind.get_ref() == "revolute"
-        && j.motor.is_none()
-        && j.drive
-            .as_ref()
-            .is_some_and(|d| d.get_ref().angle.is_some())
-        && j.a
-            .as_ref()
-            .is_some_and(|a| a.get_ref().trim().starts_with("ground@"))
-        && !j.b.get_ref().contains('@')
-        && dim > 0
-}
-
 fn build(
     c: &Ctx,
     raw: RawScene,
     base: &Path,
     provider: &dyn KernelProvider,
 ) -> Result<Scene, SceneError> {
-    let dim = match *raw.dimension.get_ref() {
-        2 => 2,
-        3 => 3,
-        d => {
-            return Err(c.err(
-                raw.dimension.span(),
-                format!("`dimension` must be 2 (planar) or 3 (spatial), found {d}"),
-            ))
-        }
-    };
+    let dim = crate::codegen::scene::dimension_of(&raw, c.text, c.file).map_err(scene_error)?;
+    let models = flex_models(&raw, c.text, c.file).map_err(scene_error)?;
     let t_end = pos_f64(c, &raw.t_end, "t_end")?;
     let dt = pos_f64(c, &raw.dt, "dt")?;
     if dt > t_end {
@@ -593,16 +556,8 @@ fn build(
         rigid,
     };
     // Which bodies' frames are folded into prescribed coordinates.
-    let mut folded: Vec<Option<usize>> = vec![None; names.len()];
-    for (ji, jr) in raw.joints.iter().enumerate() {
-        if folds(jr, dim) {
-            if let Ok(MarkerRef::Origin(bid)) = b.marker_ref(&jr.b) {
-                if folded[bid.0].is_none() && !b.rigid[bid.0] {
-                    folded[bid.0] = Some(ji);
-                }
-            }
-        }
-    }
+    let folding = raw.folded();
+    let folded: Vec<Option<usize>> = names.iter().map(|n| folding.get(n).copied()).collect();
     let mut sys: System<Box<dyn Body>> = System::with_dim(dim);
     let mut notes = Vec::new();
     let mut kernels_used = Vec::new();
@@ -676,10 +631,12 @@ fn build(
                     .map_err(|e| c.err(f.span(), e))?,
                 None => Formalism::Consistent,
             };
-            let stiffening = match &rb.stiffening {
-                Some(v) => parse_stiffening(c, v)?,
-                None => Stiffening::Off,
-            };
+            let model = models
+                .iter()
+                .find(|m| &m.name == name_s)
+                .expect("every flexible body has a model")
+                .clone();
+            let stiffening = model.stiffening;
             if rb.modes.is_some() || rb.reduction.is_some() {
                 return Err(c.err(span.clone(), format!("body `{name_s}`: modal bodies (`modes`, `reduction`) are not available in scene files yet")));
             }
@@ -700,12 +657,9 @@ fn build(
                 params,
                 force_tape: false,
             };
-            let spec = FlexSpec {
-                name: name_s.clone(),
-                beam,
-                free_frame: fold.is_none(),
-            };
-            let kernels = provider
+            let _ = fold;
+            let spec = FlexSpec { model, beam };
+            let (kernels, path) = provider
                 .kernels(&spec)
                 .map_err(|e| c.err(shape.span(), format!("body `{name_s}`: {e}")))?;
             let dimension = kernels.info().dim;
@@ -714,7 +668,7 @@ fn build(
             }
             let kb = KernelBody::new(kernels, params, n as usize, reference)
                 .map_err(|e| c.err(span.clone(), format!("body `{name_s}`: {e}")))?;
-            kernels_used.push((name_s.clone(), kernel_path(&spec)));
+            kernels_used.push((name_s.clone(), path.to_string()));
             flex.push(spec);
             Box::new(kb)
         };
@@ -911,13 +865,6 @@ fn rigid_body(rb: &RawBody) -> bool {
 
 fn ffr_spec_max() -> usize {
     crate::runtime::spec::MAX_ELEMENTS
-}
-
-fn kernel_path(spec: &FlexSpec) -> String {
-    match spec.beam.kernels() {
-        Ok(k) => k.path().to_string(),
-        Err(_) => "tape".into(),
-    }
 }
 
 fn inertia3(c: &Ctx, v: &Spanned<toml::Value>) -> Result<Matrix3<f64>, SceneError> {

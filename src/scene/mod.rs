@@ -2,7 +2,7 @@
 //! forces and outputs, run by `ffr run SCENE.toml` (format: the README's
 //! "Scene files"), or compiled into a crate by `ffr_codegen::Builder::scene`.
 
-pub mod file;
+pub mod emit;
 pub mod load;
 pub mod run;
 

@@ -1,0 +1,376 @@
+//! Scene files (TOML): the format as read (every value keeps its span so
+//! that errors name `file:line:col`), and what a scene fixes for the
+//! generator — which bodies are flexible, with which options, whether their
+//! frame motion is prescribed (a revolute joint to the ground at the frame
+//! origin with an angle drive) and whether their frame acceleration `ā`
+//! vanishes (origin fixed, no gravity). The root crate builds and runs the
+//! scene from the same description (`ffr::scene`); [`crate::Builder::scene`]
+//! compiles its bodies' specialized kernels.
+
+use crate::error::{Error, Location};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::ops::Range;
+use std::path::Path;
+use toml::Spanned;
+
+/// A scene file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawScene {
+    /// `2` (planar) or `3` (spatial).
+    pub dimension: Spanned<i64>,
+    pub gravity: Option<Spanned<Vec<f64>>>,
+    pub t_end: Spanned<f64>,
+    pub dt: Spanned<f64>,
+    pub integrator: Option<Spanned<RawIntegrator>>,
+    #[serde(default)]
+    pub bodies: BTreeMap<String, RawBody>,
+    #[serde(default)]
+    pub joints: Vec<RawJoint>,
+    #[serde(default)]
+    pub forces: Vec<RawForce>,
+    #[serde(default)]
+    pub outputs: Vec<RawOutput>,
+    /// A one-line description (shown in reports).
+    pub description: Option<String>,
+}
+
+/// `integrator = { kind = "generalized-alpha", rho_inf = 0.8 }` or
+/// `{ kind = "rk4", alpha = 10, beta = 10 }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawIntegrator {
+    pub kind: Spanned<String>,
+    pub rho_inf: Option<Spanned<f64>>,
+    pub rtol: Option<Spanned<f64>>,
+    pub alpha: Option<Spanned<f64>>,
+    pub beta: Option<Spanned<f64>>,
+}
+
+/// A body: flexible (`shape = …`) or rigid (`mass = …`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBody {
+    // Flexible.
+    pub shape: Option<Spanned<String>>,
+    pub elements: Option<Spanned<i64>>,
+    pub reference: Option<Spanned<String>>,
+    pub stiffening: Option<Spanned<toml::Value>>,
+    pub formalism: Option<Spanned<String>>,
+    pub params: Option<Spanned<BTreeMap<Spanned<String>, Spanned<f64>>>>,
+    pub damping: Option<Spanned<RawDamping>>,
+    pub modes: Option<Spanned<i64>>,
+    pub reduction: Option<Spanned<String>>,
+    pub boundary_nodes: Option<Spanned<Vec<i64>>>,
+    pub modal_damping: Option<Spanned<Vec<f64>>>,
+    // Rigid.
+    pub mass: Option<Spanned<f64>>,
+    pub inertia: Option<Spanned<toml::Value>>,
+    pub centre: Option<Spanned<Vec<f64>>>,
+    // Both.
+    pub position: Option<Spanned<Vec<f64>>>,
+    pub angle: Option<Spanned<f64>>,
+    pub orientation: Option<Spanned<RawOrientation>>,
+    pub velocity: Option<Spanned<Vec<f64>>>,
+    pub omega: Option<Spanned<toml::Value>>,
+}
+
+/// `orientation = { axis = [0, 0, 1], angle = 0.0 }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawOrientation {
+    pub axis: Spanned<Vec<f64>>,
+    pub angle: Spanned<f64>,
+}
+
+/// `damping = { alpha = 0.0, beta = 1e-4 }` (Rayleigh).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawDamping {
+    pub alpha: Option<Spanned<f64>>,
+    pub beta: Option<Spanned<f64>>,
+}
+
+/// A joint.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawJoint {
+    pub kind: Spanned<String>,
+    pub a: Option<Spanned<String>>,
+    pub b: Spanned<String>,
+    pub drive: Option<Spanned<RawProfile>>,
+    pub motor: Option<Spanned<RawMotor>>,
+}
+
+/// A prescribed motion: `{ angle = "spin-up", omega = 4.0, ramp = 15.0 }`,
+/// `{ angle = "constant-rate", omega = 2.0 }`, `{ slide = "harmonic",
+/// amplitude = 0.1, frequency = 1.0 }`, …
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawProfile {
+    pub angle: Option<Spanned<String>>,
+    pub slide: Option<Spanned<String>>,
+    pub omega: Option<Spanned<f64>>,
+    pub ramp: Option<Spanned<f64>>,
+    pub value: Option<Spanned<f64>>,
+    pub start: Option<Spanned<f64>>,
+    pub rate: Option<Spanned<f64>>,
+    pub amplitude: Option<Spanned<f64>>,
+    pub frequency: Option<Spanned<f64>>,
+    pub phase: Option<Spanned<f64>>,
+}
+
+/// `motor = { torque = 0.5 }` or `{ target = 1.0, kp = 10.0, kd = 1.0 }`
+/// (or a target profile, `target = { angle = "constant-rate", omega = 1.0 }`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMotor {
+    pub torque: Option<Spanned<f64>>,
+    pub target: Option<Spanned<toml::Value>>,
+    pub kp: Option<Spanned<f64>>,
+    pub kd: Option<Spanned<f64>>,
+}
+
+/// A force element.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawForce {
+    pub kind: Spanned<String>,
+    pub at: Option<Spanned<String>>,
+    pub a: Option<Spanned<String>>,
+    pub b: Option<Spanned<String>>,
+    pub force: Option<Spanned<Vec<f64>>>,
+    pub axes: Option<Spanned<String>>,
+    pub stiffness: Option<Spanned<f64>>,
+    pub damping: Option<Spanned<f64>>,
+    pub rest_length: Option<Spanned<f64>>,
+    pub rest_angle: Option<Spanned<f64>>,
+    pub torque: Option<Spanned<f64>>,
+}
+
+/// An output column.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawOutput {
+    pub name: Spanned<String>,
+    pub kind: Spanned<String>,
+    pub at: Option<Spanned<String>>,
+    pub a: Option<Spanned<String>>,
+    pub component: Option<Spanned<String>>,
+}
+
+impl RawBody {
+    /// A span inside the body's table (its first key present), for errors
+    /// about the body as a whole.
+    pub fn span(&self) -> Option<std::ops::Range<usize>> {
+        self.shape
+            .as_ref()
+            .map(|x| x.span())
+            .or(self.mass.as_ref().map(|x| x.span()))
+            .or(self.elements.as_ref().map(|x| x.span()))
+            .or(self.params.as_ref().map(|x| x.span()))
+            .or(self.position.as_ref().map(|x| x.span()))
+    }
+}
+
+impl RawJoint {
+    /// The joint's span (its `kind`).
+    pub fn span(&self) -> std::ops::Range<usize> {
+        self.kind.span()
+    }
+}
+
+impl RawForce {
+    /// The force's span (its `kind`).
+    pub fn span(&self) -> std::ops::Range<usize> {
+        self.kind.span()
+    }
+}
+
+impl RawOutput {
+    /// The output's span (its `name`).
+    pub fn span(&self) -> std::ops::Range<usize> {
+        self.name.span()
+    }
+}
+
+/// The most bytes a scene file may have.
+pub const MAX_SCENE_BYTES: u64 = 1 << 20;
+
+/// Parse a scene file's text (`file` names it in errors).
+pub fn parse(text: &str, file: &str) -> Result<RawScene, Error> {
+    toml::from_str(text).map_err(|e| {
+        let offset = e.span().map_or(0, |s| s.start);
+        let msg = e.message().trim().to_string();
+        Error::Scene {
+            location: Location::of(file, text, offset),
+            message: if msg.is_empty() {
+                "the file is not valid TOML".into()
+            } else {
+                msg
+            },
+        }
+    })
+}
+
+/// Read a scene file with a size limit.
+pub fn read(path: &Path) -> Result<String, Error> {
+    let file = path.display().to_string();
+    let io = |m: String| Error::Io {
+        path: file.clone(),
+        message: m,
+    };
+    let meta = std::fs::metadata(path).map_err(|e| io(e.to_string()))?;
+    if meta.is_dir() {
+        return Err(io("is a directory, not a scene file".into()));
+    }
+    if meta.len() > MAX_SCENE_BYTES {
+        return Err(io(format!(
+            "{} bytes; a scene file may have at most {MAX_SCENE_BYTES}",
+            meta.len()
+        )));
+    }
+    std::fs::read_to_string(path).map_err(|e| io(e.to_string()))
+}
+
+impl RawJoint {
+    /// Whether this joint fixes its body's frame completely and can be
+    /// folded into prescribed frame coordinates: a revolute joint between a
+    /// ground point and a body's frame origin (`b = "NAME"`), with an angle
+    /// drive and no motor.
+    pub fn folds(&self) -> bool {
+        self.kind.get_ref() == "revolute"
+            && self.motor.is_none()
+            && self.drive.as_ref().is_some_and(|d| d.get_ref().angle.is_some())
+            && self
+                .a
+                .as_ref()
+                .is_some_and(|a| a.get_ref().trim().starts_with("ground@"))
+            && !self.b.get_ref().contains('@')
+    }
+}
+
+impl RawScene {
+    /// For each body (by name), the joint that folds its frame, if any.
+    pub fn folded(&self) -> BTreeMap<String, usize> {
+        let mut out = BTreeMap::new();
+        for (i, j) in self.joints.iter().enumerate() {
+            if j.folds() {
+                let b = j.b.get_ref().trim().to_string();
+                if self.bodies.get(&b).is_some_and(|rb| rb.mass.is_none()) {
+                    out.entry(b).or_insert(i);
+                }
+            }
+        }
+        out
+    }
+
+    /// Whether the scene has non-zero gravity.
+    pub fn has_gravity(&self) -> bool {
+        self.gravity
+            .as_ref()
+            .is_some_and(|g| g.get_ref().iter().any(|x| *x != 0.0))
+    }
+}
+
+/// What the generator needs of a flexible body of a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlexBodyModel {
+    /// Body name.
+    pub name: String,
+    /// Its shape as written (a built-in name, or a path relative to the scene file).
+    pub shape: String,
+    /// Span of the shape string (for errors).
+    pub span: Range<usize>,
+    /// Inertia formalism.
+    pub formalism: ffr_spec::Formalism,
+    /// Stiffening model.
+    pub stiffening: ffr_spec::Stiffening,
+    /// Scene dimension.
+    pub scene_dim: usize,
+    /// Whether its frame moves freely (else every frame coordinate is prescribed).
+    pub free_frame: bool,
+    /// Whether `ā = Aᵀ(R̈ − g)` vanishes (frame origin fixed, no gravity).
+    pub zero_frame_acceleration: bool,
+}
+
+fn scene_err(text: &str, file: &str, span: Range<usize>, message: String) -> Error {
+    Error::Scene {
+        location: Location::of(file, text, span.start),
+        message,
+    }
+}
+
+/// The stiffening model of `stiffening = true | false | "second-order" | "fourth-order"`.
+pub fn stiffening_of(
+    v: &Spanned<toml::Value>,
+    text: &str,
+    file: &str,
+) -> Result<ffr_spec::Stiffening, Error> {
+    match v.get_ref() {
+        toml::Value::Boolean(b) => Ok(ffr_spec::Stiffening::from_bool(*b)),
+        toml::Value::String(s) if matches!(s.as_str(), "second-order" | "fourth-order" | "off") => {
+            Ok(s.parse().expect("checked"))
+        }
+        other => Err(scene_err(
+            text,
+            file,
+            v.span(),
+            format!(
+                "`stiffening` must be true, false, \"second-order\" or \"fourth-order\", found a {}",
+                other.type_str()
+            ),
+        )),
+    }
+}
+
+/// The scene's dimension (2 or 3).
+pub fn dimension_of(raw: &RawScene, text: &str, file: &str) -> Result<usize, Error> {
+    match *raw.dimension.get_ref() {
+        2 => Ok(2),
+        3 => Ok(3),
+        d => Err(scene_err(
+            text,
+            file,
+            raw.dimension.span(),
+            format!("`dimension` must be 2 (planar) or 3 (spatial), found {d}"),
+        )),
+    }
+}
+
+/// What the generator needs of each flexible body of a scene, in body-name
+/// order: its options, and what the scene fixes (frame motion prescribed by
+/// a folded joint; `ā ≡ 0` when, in addition, there is no gravity).
+pub fn flex_models(raw: &RawScene, text: &str, file: &str) -> Result<Vec<FlexBodyModel>, Error> {
+    let dim = dimension_of(raw, text, file)?;
+    let folded = raw.folded();
+    let gravity = raw.has_gravity();
+    let mut out = Vec::new();
+    for (name, rb) in &raw.bodies {
+        let Some(shape) = &rb.shape else { continue };
+        let formalism = match &rb.formalism {
+            Some(f) => f
+                .get_ref()
+                .parse()
+                .map_err(|e: String| scene_err(text, file, f.span(), e))?,
+            None => ffr_spec::Formalism::Consistent,
+        };
+        let stiffening = match &rb.stiffening {
+            Some(v) => stiffening_of(v, text, file)?,
+            None => ffr_spec::Stiffening::Off,
+        };
+        let fixed = folded.contains_key(name);
+        out.push(FlexBodyModel {
+            name: name.clone(),
+            shape: shape.get_ref().clone(),
+            span: shape.span(),
+            formalism,
+            stiffening,
+            scene_dim: dim,
+            free_frame: !fixed,
+            zero_frame_acceleration: fixed && !gravity,
+        });
+    }
+    Ok(out)
+}

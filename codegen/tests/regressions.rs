@@ -1,0 +1,508 @@
+//! Every reproducer of issue 8 that concerns the generator, as a named test:
+//! hostile shape files give a clear error at `file:line:col` quickly, never a
+//! panic, a stack overflow, a hang or silently wrong numbers; user strings
+//! cannot leave a comment of the generated code. (The command-line
+//! reproducers are in the root crate's `tests/cli.rs`.)
+
+use ffr_codegen::builder::resolve_shape;
+use ffr_codegen::limits::{self, check_invariants, check_literals};
+use ffr_codegen::program::Expr;
+use ffr_codegen::{
+    emit_file, generate, BodySpec, Builder, EmitOptions, Error, Formalism, Options, ParamValues,
+    Reference, Shape,
+};
+use std::time::{Duration, Instant};
+
+/// The bar of the other tests with entry `S[x][u2]` replaced.
+fn bar(entry: &str) -> String {
+    format!(
+        r#"name = "bar2"
+dimension = 2
+coordinates = [
+  {{ name = "u1", node = 0, kind = "ux" }},
+  {{ name = "v1", node = 0, kind = "uy" }},
+  {{ name = "u2", node = 1, kind = "ux" }},
+  {{ name = "v2", node = 1, kind = "uy" }},
+]
+[S]
+x = ["1 - xi", "0", "{entry}", "0"]
+y = ["0", "1 - xi", "0", "xi"]
+"#
+    )
+}
+
+/// Parse a bar whose `S[x][u2]` is `entry`; must fail within a second.
+fn refused(entry: &str) -> String {
+    let t = Instant::now();
+    let r = Shape::parse(&bar(entry), "bad.toml");
+    let took = t.elapsed();
+    assert!(took < Duration::from_secs(1), "took {took:?}");
+    match r {
+        Ok(_) => panic!("`{entry}` was accepted"),
+        Err(e) => {
+            let e = e.to_string();
+            assert!(e.starts_with("bad.toml:10:"), "{e}");
+            e
+        }
+    }
+}
+
+const KRB: ParamValues = ParamValues {
+    length: 8.0,
+    rho: 2766.67,
+    area: 7.2968e-5,
+    iy: 8.2189e-9,
+    iz: 8.2189e-9,
+    e: 6.8952e10,
+    g: 2.6e10,
+    j: 1.6438e-8,
+};
+
+#[test]
+fn nested_powers_do_not_wrap_exponents() {
+    // Was: a negative m_ff diagonal with exit 0.
+    let e = refused("((((xi^64)^64)^64)^64)^64");
+    assert!(e.contains("`^64` would give degree 64 in xi"), "{e}");
+    assert!(e.contains("MAX_SYMBOL_DEGREE"), "{e}");
+    // Was: treated as 1.
+    refused("(((((xi^64)^64)^64)^64)^64)^64");
+    // Was: K_ff = −9.7e25.
+    let e = refused("xi^(2^31)");
+    assert!(e.contains("expected a whole number after `^`"), "{e}");
+    let e = refused("xi^2147483648");
+    assert!(e.contains("power too large: at most 64"), "{e}");
+    let e = refused("xi^4294967297");
+    assert!(e.contains("power too large"), "{e}");
+}
+
+#[test]
+fn nested_power_is_refused_before_it_is_expanded() {
+    // Was: minutes of work.
+    let e = refused("((1+xi)^8)^64");
+    assert!(e.contains("would give degree 512 in xi"), "{e}");
+    assert!(e.contains("not expanded"), "{e}");
+    let e = refused("(1+xi+eta+zeta+l)^2*(1+xi+eta+zeta+l)^2*(1+xi+eta+zeta+l)^2");
+    assert!(e.contains("terms") || e.contains("degree"), "{e}");
+    let e = refused("(2^64)^64*xi");
+    assert!(e.contains("MAX_COEFFICIENT_BITS"), "{e}");
+    let e = refused("(1 + 2*xi + 3*xi^2 + 4*eta + l + xi*l)^8");
+    assert!(e.contains("would give"), "{e}");
+}
+
+#[test]
+fn deep_nesting_does_not_overflow_the_stack() {
+    // Was: a stack overflow (abort), in the CLI and inside rustc. Test
+    // threads have small stacks, so this also shows the parser's stack use
+    // is bounded.
+    let deep = format!("{}xi{}", "(".repeat(8000), ")".repeat(8000));
+    let e = refused(&deep);
+    assert!(e.contains("parentheses nest more than 32 deep"), "{e}");
+    let e = refused(&format!("{}xi", "(".repeat(100_000)));
+    assert!(e.contains("MAX_NESTING_DEPTH"), "{e}");
+    // 32 levels are fine.
+    let ok = format!("{}xi{}", "(".repeat(32), ")".repeat(32));
+    Shape::parse(&bar(&ok), "ok.toml").unwrap();
+}
+
+#[test]
+fn fifty_thousand_unary_minus_signs_are_read_in_a_loop() {
+    // Was: a stack overflow. Signs cost no recursion: an even number is `+`.
+    let s = Shape::parse(&bar(&format!("{}xi", "-".repeat(50_000))), "minus.toml").unwrap();
+    assert_eq!(s.rows[0][2].to_string(), "xi");
+    let s = Shape::parse(&bar(&format!("{}xi", "-+".repeat(25_001))), "minus.toml").unwrap();
+    assert_eq!(s.rows[0][2].to_string(), "-xi");
+}
+
+#[test]
+fn huge_power_of_l_is_refused() {
+    // Was: a stack overflow when the program builder hoisted l^32768.
+    let e = refused("xi*((l^64)^64)^8");
+    assert!(e.contains("degree 64 in l"), "{e}");
+    assert!(e.contains("MAX_L_DEGREE"), "{e}");
+    let e = refused("xi*l^3");
+    assert!(e.contains("MAX_L_DEGREE"), "{e}");
+}
+
+#[test]
+fn big_coefficients_are_refused_where_they_are_written() {
+    // Was: inf/NaN in `invariants --json` (as null, exit 0) and `inf` literals
+    // in emitted code. Such coefficients are beyond f64 anyway.
+    let e = refused("1e300*1e300*xi");
+    assert!(e.contains("number `1e300` needs about 1000 bits"), "{e}");
+    let e = refused("1e30*1e30*xi");
+    assert!(e.contains("this product has a coefficient of"), "{e}");
+    let e = refused(&format!("{}*xi", "9".repeat(100_000)));
+    assert!(e.contains("MAX_COEFFICIENT_BITS"), "{e}");
+    // Leading and trailing zeros are not significant.
+    let s = Shape::parse(
+        &bar(&format!("{}1.5{}*xi", "0".repeat(5000), "0".repeat(5000))),
+        "ok.toml",
+    )
+    .unwrap();
+    assert_eq!(s.rows[0][2].to_string(), "3/2*xi");
+}
+
+#[test]
+fn dev_zero_fails_at_once() {
+    // Was: memory grew without bound.
+    if !std::path::Path::new("/dev/zero").exists() {
+        return;
+    }
+    let t = Instant::now();
+    let e = Shape::resolve("/dev/zero", None).unwrap_err();
+    assert!(t.elapsed() < Duration::from_secs(1));
+    assert!(matches!(e, Error::Io { .. }), "{e}");
+    let e = e.to_string();
+    assert!(e.starts_with("/dev/zero: larger than 1048576 bytes"), "{e}");
+}
+
+#[test]
+fn a_directory_and_binary_data_are_clear_errors() {
+    let dir = std::env::temp_dir().join(format!("ffr-regr-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("d.toml")).unwrap();
+    let e = Shape::resolve(dir.join("d.toml").to_str().unwrap(), None).unwrap_err();
+    assert!(
+        e.to_string()
+            .ends_with("d.toml: is a directory, not a shape file"),
+        "{e}"
+    );
+    std::fs::write(dir.join("bin.toml"), b"name = \"a\"\n\xff\xfe").unwrap();
+    let e = Shape::resolve(dir.join("bin.toml").to_str().unwrap(), None).unwrap_err();
+    let e = e.to_string();
+    assert!(
+        e.contains("bin.toml:2:1: the file is not UTF-8 text (byte 0xff"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_truncated_shape_file_says_what_is_missing() {
+    // Was: an empty message.
+    let text = bar("xi");
+    for cut in [text.len() - 3, text.len() - 20, 120, 60, 14] {
+        let e = Shape::parse(&text[..cut], "cut.toml")
+            .unwrap_err()
+            .to_string();
+        let message = e.splitn(4, ':').nth(3).unwrap_or("").trim();
+        assert!(message.len() > 10, "cut at {cut}: `{e}`");
+        assert!(!e.contains('\n'), "{e}");
+    }
+    let e = Shape::parse(&text[..text.len() - 3], "cut.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("truncated"), "{e}");
+}
+
+/// A shape whose name (or coordinate name) is `name`, as TOML.
+fn named(name: &str, coordinate: &str) -> String {
+    bar("xi")
+        .replace("name = \"bar2\"", &format!("name = {name}"))
+        .replace("name = \"u2\"", &format!("name = {coordinate}"))
+}
+
+#[test]
+fn names_cannot_inject_code() {
+    // Was: a name holding a newline plus Rust code became code in `ffr emit`
+    // output and in Builder files; `\r` did the same.
+    for evil in [
+        r#""x\nfn main() { std::process::exit(3) }\n//""#,
+        r#""x\rfn main() {}""#,
+        r#""x */ fn f() {} /*""#,
+        r#""x\u202e""#,
+        r#""""#,
+        r#""a b""#,
+    ] {
+        let e = Shape::parse(&named(evil, "\"u2\""), "evil.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("evil.toml:1:"), "{e}");
+        assert!(e.contains("shape name"), "{e}");
+        assert!(!e.contains('\n') && !e.contains('\r'), "{e}");
+        let e = Shape::parse(&named("\"bar2\"", evil), "evil.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("evil.toml:6:"), "{e}");
+        assert!(e.contains("coordinate name"), "{e}");
+    }
+    // The column points at the offending character.
+    let e = Shape::parse(&named("\"ab\\ncd\"", "\"u2\""), "evil.toml").unwrap_err();
+    assert!(e.to_string().starts_with("evil.toml:1:10:"), "{e}");
+    let e = Shape::parse(
+        &named(&format!("\"{}\"", "a".repeat(65)), "\"u2\""),
+        "x.toml",
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("at most 64"), "{e}");
+}
+
+#[test]
+fn origin_and_type_name_cannot_leave_a_comment() {
+    // A path with a newline (e.g. from a build script) reaches the header.
+    let mut shape = Shape::resolve("beam2", None).unwrap();
+    shape.origin = "shapes/\nfn main() {}\r\n/* */ \u{202e}.toml".into();
+    let spec = BodySpec::new(shape, 1, Reference::Clamped).unwrap();
+    let g = generate(&spec, Options::default()).unwrap();
+    let code = emit_file(
+        &g,
+        &EmitOptions {
+            type_name: "Arm".into(),
+            ..EmitOptions::default()
+        },
+    );
+    assert!(
+        code.contains("shapes/\\nfn main() {}\\r\\n/\\* *\\/ \\u{202e}.toml"),
+        "{code}"
+    );
+    for line in code.lines() {
+        assert!(!line.starts_with("fn main"), "{line}");
+    }
+    let file = syn::parse_file(&code).unwrap();
+    assert!(!file
+        .items
+        .iter()
+        .any(|i| matches!(i, syn::Item::Fn(f) if f.sig.ident == "main")));
+    assert!(code.is_ascii() || !code.contains('\u{202e}'));
+}
+
+#[test]
+fn body_names_must_be_plain_identifiers() {
+    for bad in ["fn", "Self", "_", "r#arm", "a\nb", "gen", "self_", "ärm"] {
+        let e = Builder::new()
+            .body(bad, "beam2", 1, Reference::Clamped)
+            .render()
+            .unwrap_err();
+        assert!(matches!(e, Error::Name(_)), "{bad}: {e}");
+        assert!(e.to_string().starts_with("body name `"), "{e}");
+        assert!(!e.to_string().contains('\n'), "{e}");
+    }
+}
+
+#[test]
+fn the_attribute_path_reads_shapes_through_the_same_limits() {
+    // `#[flex_body]` resolves shapes with `resolve_shape`: the limits apply
+    // there too, so rustc never sees unbounded recursion from a shape file.
+    let dir = std::env::temp_dir().join(format!("ffr-attr-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("shapes")).unwrap();
+    let deep = format!("{}xi{}", "(".repeat(8000), ")".repeat(8000));
+    std::fs::write(dir.join("shapes/deep.toml"), bar(&deep)).unwrap();
+    let e = resolve_shape("shapes/deep.toml", &dir)
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("shapes/deep.toml:10:"), "{e}");
+    assert!(e.contains("MAX_NESTING_DEPTH"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn non_finite_invariants_are_an_error_naming_the_quantity() {
+    // Was: `null` in `invariants --json` with exit 0 (--length 1e308).
+    let spec = BodySpec::new(
+        Shape::resolve("beam2", None).unwrap(),
+        2,
+        Reference::Clamped,
+    )
+    .unwrap();
+    let g = generate(&spec, Options::default()).unwrap();
+    let p = ParamValues {
+        length: 1e308,
+        ..KRB
+    };
+    let e = check_invariants(&g.eval_invariants(&p), Formalism::Consistent).unwrap_err();
+    assert!(matches!(e, Error::Invalid { .. }), "{e}");
+    let e = e.to_string();
+    assert!(
+        e.starts_with("theta.xx is inf") || e.contains(" is inf"),
+        "{e}"
+    );
+    check_invariants(&g.eval_invariants(&KRB), Formalism::Consistent).unwrap();
+    // Tiny parameters: a mass-matrix diagonal that underflows to zero.
+    let p = ParamValues {
+        rho: 1e-300,
+        area: 1e-300,
+        iz: 1e-300,
+        ..KRB
+    };
+    let e = check_invariants(&g.eval_invariants(&p), Formalism::Consistent)
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("mff[0][0] (ux_1) is 0"), "{e}");
+}
+
+#[test]
+fn non_finite_literals_are_refused_before_emission() {
+    // Was: `inf * …` in emitted code, which does not compile.
+    let spec = BodySpec::new(
+        Shape::resolve("beam2", None).unwrap(),
+        1,
+        Reference::Clamped,
+    )
+    .unwrap();
+    let mut g = generate(&spec, Options::default()).unwrap();
+    check_literals(&g).unwrap();
+    let last = g.invariants.outputs.len() - 1;
+    g.invariants.outputs[last].1 = Expr::Mul(
+        Box::new(Expr::Lit(f64::INFINITY)),
+        Box::new(g.invariants.outputs[last].1.clone()),
+    );
+    let e = check_literals(&g).unwrap_err().to_string();
+    assert!(e.starts_with("Kff("), "{e}");
+    assert!(e.contains("inf"), "{e}");
+}
+
+#[test]
+fn physically_invalid_parameters_name_the_parameter() {
+    let used = [ffr_codegen::poly::Param::Iz];
+    for (field, value, expect) in [
+        (
+            "length",
+            0.0,
+            "parameter `length` must be positive, found 0",
+        ),
+        ("rho", -1.0, "parameter `rho` must be positive, found -1"),
+        ("area", 0.0, "parameter `area` must be positive"),
+        ("e", -2.0, "parameter `e` must be positive"),
+        ("iy", -1e-9, "parameter `iy` must not be negative"),
+        (
+            "iz",
+            0.0,
+            "parameter `iz` must be positive for this body, which uses it",
+        ),
+        ("g", -1.0, "parameter `g` must not be negative"),
+        ("j", f64::NAN, "parameter `j` must be finite"),
+    ] {
+        let mut p = KRB;
+        match field {
+            "length" => p.length = value,
+            "rho" => p.rho = value,
+            "area" => p.area = value,
+            "e" => p.e = value,
+            "iy" => p.iy = value,
+            "iz" => p.iz = value,
+            "g" => p.g = value,
+            _ => p.j = value,
+        }
+        let e = limits::check_params(&p, &used).unwrap_err().to_string();
+        assert!(e.starts_with(expect), "{field}: {e}");
+    }
+    // Zero is fine where the body does not use the parameter.
+    let p = ParamValues {
+        iy: 0.0,
+        g: 0.0,
+        j: 0.0,
+        ..KRB
+    };
+    limits::check_params(&p, &used).unwrap();
+}
+
+#[test]
+fn lumped_formalism_after_a_big_exponent_is_an_error_not_a_panic() {
+    // Was: a panic (exit 101) in `--formalism lumped` after an overflowed
+    // exponent; the shape is now refused before.
+    refused("((((xi^64)^64)^64)^64)^64");
+    let s = Shape::parse(&bar("xi^8"), "ok.toml").unwrap();
+    let spec = BodySpec::new(s, 3, Reference::Pinned)
+        .unwrap()
+        .with_formalism(Formalism::Lumped);
+    generate(&spec, Options { stiffening: true }).unwrap();
+}
+
+#[test]
+fn legitimate_shapes_are_far_inside_the_limits() {
+    for name in ["beam2", "beam3"] {
+        let s = Shape::resolve(name, None).unwrap();
+        let terms: usize = s.rows.iter().flatten().map(|p| p.len()).sum();
+        assert!(terms * 2 < limits::MAX_SHAPE_TERMS, "{name}: {terms}");
+        for p in s.rows.iter().flatten() {
+            for (m, c) in p.terms() {
+                for &(sym, e) in m.factors() {
+                    let max = if sym.to_string() == "l" {
+                        limits::MAX_L_DEGREE
+                    } else {
+                        limits::MAX_SYMBOL_DEGREE
+                    };
+                    assert!(e as u32 * 2 <= max, "{name}: {m}");
+                }
+                assert!(c.numer().bits() * 4 < limits::MAX_COEFFICIENT_BITS);
+            }
+        }
+    }
+}
+
+/// The most expensive shape the limits allow, roughly: 12 coordinates,
+/// 3 terms per entry (108 in all, within `MAX_SHAPE_TERMS`), 38-digit
+/// coefficients, every power of `l` up to `MAX_L_DEGREE`, degree 8 in `ξ`.
+fn costly_shape() -> String {
+    let kinds = ["ux", "uy", "uz", "rx", "ry", "rz"];
+    let mut coords = Vec::new();
+    for node in 0..2 {
+        for k in kinds {
+            coords.push(format!(
+                "{{ name = \"{k}{node}\", node = {node}, kind = \"{k}\" }}"
+            ));
+        }
+    }
+    let mut text = format!(
+        "name = \"costly\"\ndimension = 3\ncoordinates = [{}]\n[S]\n",
+        coords.join(", ")
+    );
+    let mut seed: u64 = 1;
+    let mut digits = || {
+        (0..38)
+            .map(|i| {
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let d = (seed >> 60) % 10;
+                char::from(b'0' + if i == 0 { 1 + d % 9 } else { d } as u8)
+            })
+            .collect::<String>()
+    };
+    for row in ["x", "y", "z"] {
+        let mut entries = Vec::new();
+        for a in 0..12u32 {
+            let terms: Vec<String> = (0..3u32)
+                .map(|i| {
+                    let xi = (a + 3 * i) % 9;
+                    let l = (a + i) % (limits::MAX_L_DEGREE + 1);
+                    format!("{}e-38*xi^{xi}*l^{l}", digits())
+                })
+                .collect();
+            entries.push(format!("\"{}\"", terms.join(" + ")));
+        }
+        text += &format!("{row} = [{}]\n", entries.join(", "));
+    }
+    text
+}
+
+#[test]
+fn the_costliest_shapes_within_the_limits_take_seconds_not_minutes() {
+    let shape = Shape::parse(&costly_shape(), "costly.toml").unwrap();
+    let terms: usize = shape.rows.iter().flatten().map(|p| p.len()).sum();
+    assert!(terms <= limits::MAX_SHAPE_TERMS, "{terms}");
+    let spec = BodySpec::new(shape, 2, Reference::Free).unwrap();
+    let t = Instant::now();
+    let g = generate(&spec, Options::default()).unwrap();
+    let took = t.elapsed();
+    println!("costly shape, 2 elements, invariants and inertia terms: {took:?}");
+    // About 1 s in the test profile on a busy 2-core machine; 10 s catches a
+    // limit that no longer bounds the work.
+    assert!(took < Duration::from_secs(10), "{took:?}");
+    check_literals(&g).unwrap();
+}
+
+/// With geometric stiffening the exact energy is much larger (about 15 s
+/// in the test profile): `cargo test -p ffr-codegen --release --test
+/// regressions -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn the_costliest_shape_with_stiffening() {
+    let shape = Shape::parse(&costly_shape(), "costly.toml").unwrap();
+    let spec = BodySpec::new(shape, 2, Reference::Free).unwrap();
+    let t = Instant::now();
+    generate(&spec, Options { stiffening: true }).unwrap();
+    println!(
+        "costly shape, 2 elements, with stiffening: {:?}",
+        t.elapsed()
+    );
+}

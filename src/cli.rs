@@ -1,0 +1,625 @@
+//! The `ffr` command line.
+
+use crate::codegen::builder::KernelConfig;
+use crate::codegen::limits::{check_literals, check_params};
+use crate::codegen::sanitize::check_type_name;
+use crate::codegen::{generate_kernels, BodySpec, EmitOptions, Shape};
+use crate::compiled::BeamSpec;
+use crate::output;
+use crate::runtime::spec::{Formalism, Params, Reference, Stiffening};
+use crate::runtime::{Body, GeneralizedAlpha, Integrator, Invariants, Rk4Baumgarte};
+use crate::scenes::spin_up::{SpinUp, SpinUpResult, KRB};
+use clap::{Args, Parser, Subcommand};
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+/// Floating frame of reference (FFR) code generation and simulation.
+#[derive(Parser, Debug)]
+#[command(name = "ffr", version, about)]
+pub struct Cli {
+    /// What to do; without a command, the main job runs (`spin-up` with its defaults).
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// Subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Evaluate a body's invariants from its generated element kernels.
+    Invariants {
+        #[command(flatten)]
+        body: BodyArgs,
+        #[command(flatten)]
+        params: ParamArgs,
+        /// Print one JSON object (otherwise a short text summary).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Run the spin-up beam benchmark (the main job).
+    SpinUp(SpinUpArgs),
+    /// Run a scene file.
+    Run {
+        /// The scene file (TOML; see the README's "Scene files").
+        scene: PathBuf,
+        /// Where to write the outputs (default: results/<scene>.csv).
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Where to write the SVG plot (default: next to the CSV).
+        #[arg(long)]
+        svg: Option<PathBuf>,
+    },
+    /// Print the generated Rust: element kernels of a shape, a body with a
+    /// fixed mesh (`--elements`), or every flexible body of a scene (`--scene`).
+    Emit {
+        #[command(flatten)]
+        kernel: KernelArgs,
+        /// Number of elements: emit a body type with this fixed mesh.
+        #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
+        elements: Option<u16>,
+        /// Reference condition of a fixed-mesh body.
+        #[arg(long, default_value = "clamped", value_parser = ["clamped", "pinned", "free"])]
+        reference: String,
+        /// Emit the specialized kernels of this scene file's flexible bodies.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Name of the generated type.
+        #[arg(long, default_value = "Body")]
+        type_name: String,
+    },
+}
+
+/// Which element kernels: shape and model options.
+#[derive(Args, Debug, Clone)]
+pub struct KernelArgs {
+    /// Built-in shape name (beam2, beam3) or path to a shape .toml file.
+    #[arg(long, default_value = "beam3")]
+    pub shape: String,
+    /// Inertia formalism: consistent or lumped.
+    #[arg(long, default_value = "consistent", value_parser = ["consistent", "lumped"])]
+    pub formalism: String,
+    /// Geometric stiffening: off, on (= fourth-order), second-order, fourth-order.
+    #[arg(long, default_value = "off", value_parser = ["off", "on", "second-order", "fourth-order"])]
+    pub stiffening: String,
+    /// The scene the body moves in: planar or spatial (default: the shape's).
+    #[arg(long = "scene-dim", value_parser = ["planar", "spatial"])]
+    pub scene_dim: Option<String>,
+    /// Only prescribed frame motion (no reference rows).
+    #[arg(long)]
+    pub prescribed_frame: bool,
+}
+
+impl KernelArgs {
+    fn config(&self, name: &str) -> Result<KernelConfig, Box<dyn std::error::Error>> {
+        let mut k = KernelConfig::new(name, &self.shape)
+            .formalism(self.formalism.parse::<Formalism>()?)
+            .stiffening(self.stiffening.parse::<Stiffening>()?)
+            .free_frame(!self.prescribed_frame);
+        if let Some(d) = &self.scene_dim {
+            k = k.scene_dim(if d == "planar" { 2 } else { 3 });
+        }
+        Ok(k)
+    }
+}
+
+/// Which body: shape, mesh, reference condition, formalism.
+#[derive(Args, Debug, Clone)]
+pub struct BodyArgs {
+    /// Built-in shape name (beam2, beam3) or path to a shape .toml file.
+    #[arg(long, default_value = "beam3")]
+    pub shape: String,
+    /// Number of equal elements (1 to 256).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=256))]
+    pub elements: u16,
+    /// Reference condition: clamped, pinned or free.
+    #[arg(long, default_value = "clamped", value_parser = ["clamped", "pinned", "free"])]
+    pub reference: String,
+    /// Inertia formalism: consistent or lumped.
+    #[arg(long, default_value = "consistent", value_parser = ["consistent", "lumped"])]
+    pub formalism: String,
+    /// Run the kernels on tapes even for a built-in shape (comparisons).
+    #[arg(long)]
+    pub tape: bool,
+}
+
+/// Parameter values (SI units); a shape that does not use one ignores it.
+/// Defaults: a 1 m steel bar of 10 mm × 10 mm square section.
+#[derive(Args, Debug, Clone)]
+pub struct ParamArgs {
+    /// Body length L (m).
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    pub length: f64,
+    /// Density ρ (kg/m³).
+    #[arg(long, default_value_t = 7850.0, allow_hyphen_values = true)]
+    pub rho: f64,
+    /// Area A (m²).
+    #[arg(long, default_value_t = 1e-4, allow_hyphen_values = true)]
+    pub area: f64,
+    /// I_y = ∫z² dA (m⁴).
+    #[arg(long, default_value_t = 1e-8 / 12.0, allow_hyphen_values = true)]
+    pub iy: f64,
+    /// I_z = ∫y² dA (m⁴).
+    #[arg(long, default_value_t = 1e-8 / 12.0, allow_hyphen_values = true)]
+    pub iz: f64,
+    /// Young's modulus E (Pa).
+    #[arg(long, default_value_t = 2.1e11, allow_hyphen_values = true)]
+    pub e: f64,
+    /// Shear modulus G (Pa).
+    #[arg(long, default_value_t = 8.1e10, allow_hyphen_values = true)]
+    pub g: f64,
+    /// Torsion constant J (m⁴).
+    #[arg(long, default_value_t = 1.406e-8, allow_hyphen_values = true)]
+    pub j: f64,
+}
+
+impl ParamArgs {
+    /// As parameter values.
+    pub fn values(&self) -> Params {
+        Params {
+            length: self.length,
+            rho: self.rho,
+            area: self.area,
+            iy: self.iy,
+            iz: self.iz,
+            e: self.e,
+            g: self.g,
+            j: self.j,
+        }
+    }
+}
+
+impl BodyArgs {
+    /// The body these arguments describe.
+    pub fn beam(&self, params: Params) -> Result<BeamSpec, Box<dyn std::error::Error>> {
+        Ok(BeamSpec {
+            shape: self.shape.clone(),
+            elements: self.elements as usize,
+            reference: self.reference.parse::<Reference>()?,
+            formalism: self.formalism.parse::<Formalism>()?,
+            stiffening: Stiffening::Off,
+            scene_dim: None,
+            params,
+            force_tape: self.tape,
+        })
+    }
+}
+
+/// Options of a spin-up run.
+#[derive(Args, Debug, Clone)]
+pub struct SpinUpArgs {
+    /// Final spin rate ω_s (rad/s).
+    #[arg(long, default_value_t = 4.0, allow_hyphen_values = true)]
+    pub omega: f64,
+    /// Number of elements of the 8 m beam (1 to 256).
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u16).range(1..=256))]
+    pub elements: u16,
+    /// Geometric stiffening: on (= fourth-order), off, second-order, fourth-order.
+    #[arg(long, default_value = "on", value_parser = ["on", "off", "second-order", "fourth-order"])]
+    pub stiffening: String,
+    /// Inertia formalism: consistent or lumped.
+    #[arg(long, default_value = "consistent", value_parser = ["consistent", "lumped"])]
+    pub formalism: String,
+    /// The spatial model: beam3 with Euler parameters (prescribed rotation
+    /// about z) instead of the planar beam2.
+    #[arg(long)]
+    pub spatial: bool,
+    /// End time (s).
+    #[arg(long, default_value_t = 20.0, allow_hyphen_values = true)]
+    pub t_end: f64,
+    /// Time step (s).
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
+    pub dt: f64,
+    /// Integrator: generalized-alpha or rk4.
+    #[arg(long, default_value = "generalized-alpha", value_parser = ["generalized-alpha", "rk4"])]
+    pub integrator: String,
+    /// Generalized-α spectral radius at infinite frequency ρ∞ ∈ [0, 1].
+    #[arg(long, default_value_t = 0.8, allow_hyphen_values = true)]
+    pub rho_inf: f64,
+    /// Multiply Young's and shear moduli by this factor (stiffness studies).
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    pub e_scale: f64,
+    /// Run the kernels on tapes instead of the compiled code (comparisons).
+    #[arg(long)]
+    pub tape: bool,
+    /// Where to write `t,tip_axial,tip_transverse` (default: results/spin_up_….csv).
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Where to write the SVG plot (default: next to the CSV).
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+}
+
+impl Default for SpinUpArgs {
+    fn default() -> Self {
+        SpinUpArgs::parse_from::<[&str; 0], &str>([])
+    }
+}
+
+impl SpinUpArgs {
+    fn parse_from<I: IntoIterator<Item = T>, T: Into<std::ffi::OsString> + Clone>(args: I) -> Self {
+        #[derive(Parser)]
+        struct Wrap {
+            #[command(flatten)]
+            a: SpinUpArgs,
+        }
+        let v: Vec<std::ffi::OsString> = std::iter::once("ffr".into())
+            .chain(args.into_iter().map(Into::into))
+            .collect();
+        Wrap::parse_from(v).a
+    }
+
+    /// The scene settings these arguments ask for (checked).
+    pub fn config(&self) -> Result<SpinUp, Box<dyn std::error::Error>> {
+        for (name, v) in [
+            ("--t-end", self.t_end),
+            ("--dt", self.dt),
+            ("--e-scale", self.e_scale),
+        ] {
+            if !v.is_finite() || v <= 0.0 {
+                return Err(format!("{name} must be a positive number, found {v}").into());
+            }
+        }
+        if !self.omega.is_finite() {
+            return Err(format!("--omega must be a finite number, found {}", self.omega).into());
+        }
+        if self.dt > self.t_end {
+            return Err(format!("--dt {} is longer than --t-end {}", self.dt, self.t_end).into());
+        }
+        if !(0.0..=1.0).contains(&self.rho_inf) {
+            return Err(format!("--rho-inf must be in [0, 1], found {}", self.rho_inf).into());
+        }
+        let mut cfg = SpinUp::new(self.omega);
+        cfg.elements = self.elements as usize;
+        cfg.stiffening = self.stiffening.parse()?;
+        cfg.formalism = self.formalism.parse()?;
+        cfg.spatial = self.spatial;
+        cfg.t_end = self.t_end;
+        cfg.dt = self.dt;
+        cfg.force_tape = self.tape;
+        cfg.params = Params {
+            e: KRB.e * self.e_scale,
+            g: KRB.g * self.e_scale,
+            ..KRB
+        };
+        cfg.integrator = if self.integrator == "rk4" {
+            Integrator::Rk4(Rk4Baumgarte::default())
+        } else {
+            Integrator::GeneralizedAlpha(GeneralizedAlpha::with_rho_inf(self.rho_inf))
+        };
+        Ok(cfg)
+    }
+
+    fn tag(&self) -> String {
+        let s = match self.stiffening.as_str() {
+            "off" => "linear",
+            "second-order" => "stiff2",
+            _ => "stiff",
+        };
+        format!(
+            "spin_up_omega{}_n{}_{s}{}",
+            self.omega,
+            self.elements,
+            if self.spatial { "_spatial" } else { "" }
+        )
+    }
+}
+
+/// The default output paths `results/<tag>.csv` and `.svg`, checked before
+/// a run (not a directory, not the same file twice).
+fn outputs(
+    csv: &Option<PathBuf>,
+    svg: &Option<PathBuf>,
+    tag: &str,
+) -> Result<(PathBuf, PathBuf), Box<dyn std::error::Error>> {
+    let csv = csv
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("results").join(format!("{tag}.csv")));
+    let svg_given = svg.is_some();
+    let svg = svg.clone().unwrap_or_else(|| csv.with_extension("svg"));
+    output::check_file_path(&csv, "--csv")?;
+    output::check_file_path(&svg, "--svg")?;
+    let svg_flag = if svg_given {
+        "--svg"
+    } else {
+        "the plot (by default the CSV path with extension .svg)"
+    };
+    output::check_distinct(&[("--csv", &csv), (svg_flag, &svg)])?;
+    Ok((csv, svg))
+}
+
+/// Run the spin-up job: check, run, write the CSV and SVG, print a summary.
+/// A run that diverged is reported and is an error (non-zero exit).
+pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
+    let cfg = args.config()?;
+    let (csv, svg) = outputs(&args.csv, &args.svg, &args.tag())?;
+    let r = crate::scenes::spin_up::run(&cfg)?;
+    let mut cols: Vec<(&str, &[f64])> = vec![
+        ("tip_axial", &r.tip_axial),
+        ("tip_transverse", &r.tip_transverse),
+    ];
+    if cfg.spatial {
+        cols.push(("tip_lateral", &r.tip_lateral));
+    }
+    let names: Vec<&str> = cols.iter().map(|c| c.0).collect();
+    let values: Vec<&[f64]> = cols.iter().map(|c| c.1).collect();
+    output::write_atomic(&csv, crate::plot::csv(&r.t, &names, &values).as_bytes())?;
+    crate::plot::time_plot(
+        &svg,
+        &format!(
+            "KRB spin-up, ω_s = {} rad/s, {} {} elements, stiffening {}",
+            args.omega,
+            args.elements,
+            if cfg.spatial { "beam3" } else { "beam2" },
+            cfg.stiffening
+        ),
+        "tip displacement, hub frame (m)",
+        &r.t,
+        &cols,
+    )?;
+    println!(
+        "spin-up beam (Kane, Ryan & Banerjee 1987): L = 8 m, ω_s = {} rad/s, T = 15 s, {} {} elements ({} kernels), {} formalism, stiffening {}{}",
+        args.omega,
+        args.elements,
+        if cfg.spatial { "beam3 (spatial, Euler parameters)" } else { "beam2 (planar)" },
+        r.kernels,
+        cfg.formalism,
+        cfg.stiffening,
+        if args.e_scale != 1.0 { format!(", E × {}", args.e_scale) } else { String::new() }
+    );
+    if let Some((t, y)) = r.min_transverse() {
+        println!("peak tip deflection (hub frame): {y:.5} m at t = {t:.2} s");
+    }
+    if let Some(reference) = crate::reference::spin_up(args.omega).filter(|_| r.diverged.is_none()) {
+        if let Some((rel, abs)) = reference.error("tip_transverse", &r.t, &r.tip_transverse, args.t_end.min(30.0)) {
+            let (_, yr) = reference.min("tip_transverse").unwrap_or((0.0, f64::NAN));
+            println!(
+                "against the geometrically exact reference (peak {yr:.5} m; {}): history error {rel:.2e} relative, {abs:.2e} m",
+                reference.source
+            );
+        }
+    }
+    println!(
+        "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices, wall time {:.3} s",
+        r.steps, args.dt, r.newton_iterations, r.jacobians, r.wall
+    );
+    println!("wrote {} and {}", csv.display(), svg.display());
+    if let Some(d) = &r.diverged {
+        let hint = if cfg.stiffening == Stiffening::Off {
+            " (the linear FFR model softens above its first bending frequency; try --stiffening on)"
+        } else {
+            ""
+        };
+        return Err(format!("the run diverged at t = {:.3} s: {}{hint}", d.t, d.reason).into());
+    }
+    Ok(r)
+}
+
+/// Run a scene file, write its outputs, print a summary; an integrator
+/// failure is reported and is an error.
+pub fn run_scene(
+    path: &Path,
+    csv: &Option<PathBuf>,
+    svg: &Option<PathBuf>,
+) -> Result<crate::scene::SceneRun, Box<dyn std::error::Error>> {
+    let scene = crate::scene::load(path)?;
+    let tag = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let (csv, svg) = outputs(csv, svg, &tag)?;
+    let r = crate::scene::run(&scene)?;
+    let names: Vec<&str> = r.names.iter().map(String::as_str).collect();
+    let cols: Vec<&[f64]> = r.columns.iter().map(Vec::as_slice).collect();
+    output::write_atomic(&csv, crate::plot::csv(&r.t, &names, &cols).as_bytes())?;
+    let series: Vec<(&str, &[f64])> = names.iter().copied().zip(cols.iter().copied()).collect();
+    crate::plot::time_plot(
+        &svg,
+        scene.description.as_deref().unwrap_or(&scene.origin),
+        "outputs",
+        &r.t,
+        &series,
+    )?;
+    println!(
+        "scene {}{}",
+        scene.origin,
+        scene.description.as_ref().map_or(String::new(), |d| format!(": {d}"))
+    );
+    for (b, k) in &scene.kernels {
+        println!("  body `{b}`: {k}");
+    }
+    for n in &scene.notes {
+        println!("  {n}");
+    }
+    for (name, col) in names.iter().zip(&cols) {
+        if let (Some(first), Some(last)) = (col.first(), col.last()) {
+            let (lo, hi) = col.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+            println!("  {name}: {first:.6e} → {last:.6e} (min {lo:.6e}, max {hi:.6e})");
+        }
+    }
+    println!(
+        "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices, wall time {:.3} s",
+        r.steps, scene.dt, r.newton_iterations, r.jacobians, r.wall
+    );
+    println!("wrote {} and {}", csv.display(), svg.display());
+    if let Some(f) = &r.failed {
+        return Err(format!("the run stopped at t = {:.6} s: {f}", r.t.last().copied().unwrap_or(0.0)).into());
+    }
+    let bad = r.columns.iter().zip(&names).find(|(c, _)| c.iter().any(|v| !v.is_finite()));
+    if let Some((_, n)) = bad {
+        return Err(format!("output `{n}` is not finite: the run is not valid").into());
+    }
+    Ok(r)
+}
+
+/// Run a parsed command line.
+pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    match cli.command {
+        Some(Command::Invariants { body, params, json }) => {
+            let p = params.values();
+            check_params(&p, &[])?;
+            let beam = body.beam(p)?;
+            let kernels = beam.kernels()?;
+            let used = crate::runtime::ElementKernels::info(&kernels).params_used.to_vec();
+            check_params(&p, &used)?;
+            let b = beam.body()?;
+            let inv = b.invariants();
+            check_invariants(&inv, &b.layout().labels, beam.formalism)?;
+            if json {
+                println!("{}", serde_json::to_string(&invariants_json(&inv, &b.layout().labels))?);
+            } else {
+                print_summary(&b.layout().description, &inv, &b.layout().labels);
+            }
+            Ok(())
+        }
+        Some(Command::Emit {
+            kernel,
+            elements,
+            reference,
+            scene,
+            type_name,
+        }) => {
+            check_type_name(&type_name, "--type-name")?;
+            let text = match (&scene, elements) {
+                (Some(path), _) => crate::scene::emit::scene_file(path, &type_name)?,
+                (None, Some(n)) => {
+                    let cfg = kernel.config(&type_name)?;
+                    let model = cfg.model(Path::new("."))?;
+                    let spec = BodySpec::new(model.shape.clone(), n as usize, reference.parse::<Reference>()?)?
+                        .with_formalism(model.formalism);
+                    let set = generate_kernels(&model)?;
+                    check_literals(&set)?;
+                    crate::codegen::emit_body_file(
+                        &set,
+                        &spec,
+                        &EmitOptions {
+                            type_name,
+                            ..EmitOptions::default()
+                        },
+                    )
+                }
+                (None, None) => {
+                    let cfg = kernel.config(&type_name)?;
+                    let model = cfg.model(Path::new("."))?;
+                    let set = generate_kernels(&model)?;
+                    check_literals(&set)?;
+                    crate::codegen::emit_kernels_file(&set, &type_name, "::ffr::runtime")
+                }
+            };
+            print!("{text}");
+            Ok(())
+        }
+        Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
+        Some(Command::Run { scene, csv, svg }) => run_scene(&scene, &csv, &svg).map(|_| ()),
+        None => spin_up(&SpinUpArgs::default()).map(|_| ()),
+    }
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// Every number finite, and (consistent formalism) every diagonal entry of
+/// `m_ff` positive; the error names the quantity as `invariants --json` keys it.
+pub fn check_invariants(inv: &Invariants, dofs: &[String], formalism: Formalism) -> Result<(), String> {
+    let dof = |a: usize| dofs.get(a).map_or(String::new(), |l| format!(" ({l})"));
+    let bad = |q: String, v: f64| {
+        format!("{q} is {v} at these parameters, not a finite number: the parameters or the shape's coefficients are too large or too small for f64")
+    };
+    if !inv.mass.is_finite() {
+        return Err(bad("mass".into(), inv.mass));
+    }
+    let d = inv.dim;
+    for k in 0..d {
+        if !inv.s_t0[k].is_finite() {
+            return Err(bad(format!("St0[{k}]"), inv.s_t0[k]));
+        }
+        for a in 0..inv.nf() {
+            if !inv.s_bar[(k, a)].is_finite() {
+                return Err(bad(format!("Sbar[{k}][{a}]{}", dof(a)), inv.s_bar[(k, a)]));
+            }
+        }
+        for l in 0..d {
+            let key = format!("{}{}", AXES[k], AXES[l]);
+            if !inv.theta[(k, l)].is_finite() {
+                return Err(bad(format!("theta.{key}"), inv.theta[(k, l)]));
+            }
+            if let Some((a, v)) = inv.i_kl[k][l].iter().enumerate().find(|(_, v)| !v.is_finite()) {
+                return Err(bad(format!("Ikl.{key}[{a}]{}", dof(a)), *v));
+            }
+            for (i, v) in inv.s_kl[k][l].iter().enumerate() {
+                if !v.is_finite() {
+                    let n = inv.nf();
+                    return Err(bad(format!("Skl.{key}[{}][{}]", i % n, i / n), *v));
+                }
+            }
+        }
+    }
+    for (name, m) in [("mff", &inv.m_ff), ("Kff", &inv.k_ff)] {
+        for (i, v) in m.iter().enumerate() {
+            if !v.is_finite() {
+                let n = inv.nf();
+                return Err(bad(format!("{name}[{}][{}]{}", i % n, i / n, dof(i % n)), *v));
+            }
+        }
+    }
+    if formalism == Formalism::Consistent {
+        for a in 0..inv.nf() {
+            let v = inv.m_ff[(a, a)];
+            if !(v > 0.0) {
+                return Err(format!("mff[{a}][{a}]{} is {v} at these parameters: a diagonal entry of the mass matrix must be positive (the shape's coefficients are too small for f64, or the coordinate carries no mass)", dof(a)));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The invariants as the JSON object of `ffr invariants --json`: `mass`,
+/// `St0`, `Sbar`, `Skl`, `Ikl`, `theta` (keyed `"xx"`, `"xy"`, …; a planar
+/// body has only x, y), `mff`, `Kff`, `dofs`.
+pub fn invariants_json(inv: &Invariants, dofs: &[String]) -> Value {
+    let d = inv.dim;
+    let n = inv.nf();
+    let mat = |m: &crate::runtime::nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
+        (0..n).map(|i| (0..n).map(|j| m[(i, j)]).collect()).collect()
+    };
+    let keyed = |f: &dyn Fn(usize, usize) -> Value| {
+        let mut m = serde_json::Map::new();
+        for k in 0..d {
+            for l in 0..d {
+                m.insert(format!("{}{}", AXES[k], AXES[l]), f(k, l));
+            }
+        }
+        Value::Object(m)
+    };
+    json!({
+        "mass": inv.mass,
+        "St0": inv.s_t0.as_slice()[..d].to_vec(),
+        "Sbar": (0..d).map(|k| (0..n).map(|a| inv.s_bar[(k, a)]).collect::<Vec<f64>>()).collect::<Vec<_>>(),
+        "Skl": keyed(&|k, l| json!(mat(&inv.s_kl[k][l]))),
+        "Ikl": keyed(&|k, l| json!(inv.i_kl[k][l].as_slice())),
+        "theta": keyed(&|k, l| json!(inv.theta[(k, l)])),
+        "mff": mat(&inv.m_ff),
+        "Kff": mat(&inv.k_ff),
+        "dofs": dofs,
+    })
+}
+
+fn print_summary(description: &str, inv: &Invariants, dofs: &[String]) {
+    println!("{description}");
+    println!("elastic coordinates ({}): {}", dofs.len(), dofs.join(" "));
+    println!("mass m = {:e}", inv.mass);
+    let d = inv.dim;
+    println!("S_t0 = {:?}", &inv.s_t0.as_slice()[..d]);
+    for k in 0..d {
+        println!(
+            "Θ_{}· = {:?}",
+            AXES[k],
+            (0..d).map(|l| inv.theta[(k, l)]).collect::<Vec<_>>()
+        );
+    }
+    let diag = |m: &crate::runtime::nalgebra::DMatrix<f64>| (0..m.nrows()).map(|i| m[(i, i)]).collect::<Vec<_>>();
+    println!("diag m_ff = {:?}", diag(&inv.m_ff));
+    println!("diag K_ff = {:?}", diag(&inv.k_ff));
+}
+
+/// Whether `s` names a built-in shape.
+pub fn is_builtin_shape(s: &str) -> bool {
+    Shape::builtin(s).is_some()
+}

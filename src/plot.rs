@@ -1,0 +1,92 @@
+//! SVG plots of simulation results (plotters), written atomically.
+
+use plotters::prelude::*;
+use std::path::Path;
+
+const COLORS: [RGBColor; 6] = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK];
+
+/// Lines `series` (name, values) against `t`, as an SVG document.
+pub fn time_svg(
+    title: &str,
+    y_label: &str,
+    t: &[f64],
+    series: &[(&str, &[f64])],
+) -> Result<String, Box<dyn std::error::Error>> {
+    let mut svg = String::new();
+    {
+        let t_max = t.last().copied().unwrap_or(1.0).max(1e-9);
+        let t_min = t.first().copied().unwrap_or(0.0).min(t_max - 1e-9);
+        let finite = series
+            .iter()
+            .flat_map(|(_, v)| v.iter().copied())
+            .filter(|v| v.is_finite());
+        let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+        let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
+        let pad = 0.05 * (hi - lo).max(1e-9 * (1.0 + hi.abs()));
+        let root = SVGBackend::with_string(&mut svg, (900, 500)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(t_min..t_max, (lo - pad)..(hi + pad))?;
+        chart
+            .configure_mesh()
+            .x_desc("t (s)")
+            .y_desc(y_label)
+            .draw()?;
+        for (i, (name, v)) in series.iter().enumerate() {
+            let color = COLORS[i % COLORS.len()];
+            let pts: Vec<(f64, f64)> = t
+                .iter()
+                .zip(v.iter())
+                .filter(|(_, y)| y.is_finite())
+                .map(|(a, b)| (*a, *b))
+                .collect();
+            chart
+                .draw_series(LineSeries::new(pts, color))?
+                .label(*name)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()?;
+        root.present()?;
+    }
+    Ok(svg)
+}
+
+/// [`time_svg`] written to `path`.
+pub fn time_plot(
+    path: &Path,
+    title: &str,
+    y_label: &str,
+    t: &[f64],
+    series: &[(&str, &[f64])],
+) -> Result<(), Box<dyn std::error::Error>> {
+    let svg = time_svg(title, y_label, t, series)?;
+    crate::output::write_atomic(path, svg.as_bytes())?;
+    Ok(())
+}
+
+/// A CSV of `t` and named columns, numbers in shortest round-trip form.
+pub fn csv(t: &[f64], names: &[&str], columns: &[&[f64]]) -> String {
+    let mut s = String::from("t");
+    for n in names {
+        s.push(',');
+        s.push_str(n);
+    }
+    s.push('\n');
+    for (i, ti) in t.iter().enumerate() {
+        s.push_str(&crate::output::number(*ti));
+        for c in columns {
+            s.push(',');
+            s.push_str(&crate::output::number(c.get(i).copied().unwrap_or(f64::NAN)));
+        }
+        s.push('\n');
+    }
+    s
+}
