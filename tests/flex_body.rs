@@ -1,9 +1,10 @@
 //! `#[ffr::flex_body]` in the root crate: option handling, the fields it
 //! needs and the ones it leaves alone, generic structs, and agreement with
-//! the generator's own numeric evaluation.
+//! the generator run at test time (the same model taped, bit for bit).
 
-use ffr::codegen::{BodySpec, Formalism, Options, ParamValues, Reference, Shape};
-use ffr::runtime::{CompiledBody, FlexBody, InertiaTerms};
+use ffr::compiled::BeamSpec;
+use ffr::runtime::spec::{Formalism, Params, Reference, Stiffening};
+use ffr::runtime::{sample_bits, Body, CompiledBody, KernelBody};
 
 /// A planar beam needs only `length, rho, area, iz, e`; other fields (of any
 /// type, also raw identifiers and spelled-out `f64`) are left alone.
@@ -35,64 +36,73 @@ pub struct Tagged<'a, T: Clone> {
     pub j: f64,
 }
 
-fn values() -> ParamValues {
-    ParamValues {
-        length: 2.0,
-        rho: 2700.0,
-        area: 3e-4,
-        iy: 2e-9,
-        iz: 4e-9,
-        e: 7e10,
-        g: 2.6e10,
-        j: 5e-9,
-    }
+/// A planar shape in a spatial scene with the second-order model.
+#[ffr::flex_body(
+    shape = "beam2",
+    elements = 2,
+    scene = "spatial",
+    stiffening = "second-order"
+)]
+pub struct InSpace {
+    pub length: f64,
+    pub rho: f64,
+    pub area: f64,
+    pub iz: f64,
+    pub e: f64,
 }
 
-fn close(a: f64, b: f64, scale: f64) {
-    assert!((a - b).abs() <= 1e-12 * scale, "{a} vs {b}");
-}
+const V: Params = Params {
+    length: 2.0,
+    rho: 2700.0,
+    area: 3e-4,
+    iy: 2e-9,
+    iz: 4e-9,
+    e: 7e10,
+    g: 2.6e10,
+    j: 5e-9,
+};
 
-/// The expansion's invariants agree with `Generated::eval_invariants`.
-fn check_against_generator(body: &dyn FlexBody, spec: BodySpec, options: Options) {
-    let g = ffr::codegen::generate(&spec, options).unwrap();
-    let want = g.eval_invariants(&values());
-    let got = body.invariants();
-    assert_eq!(body.nf(), want.dofs.len());
-    assert_eq!(body.dof_labels(), want.dofs);
-    assert_eq!(body.dim(), want.dim);
-    close(got.mass, want.mass, want.mass);
-    let nf = body.nf();
-    let big = |m: &Vec<Vec<f64>>| m.iter().flatten().fold(0f64, |a, x| a.max(x.abs()));
-    let (sm, sk) = (big(&want.m_ff), big(&want.k_ff));
-    for a in 0..nf {
-        for b in 0..nf {
-            close(got.m_ff[(a, b)], want.m_ff[a][b], sm);
-            close(got.k_ff[(a, b)], want.k_ff[a][b], sk);
-        }
+/// The attribute's body computes bit for bit what the generator's program
+/// for the same model computes on a tape (`spec` with `force_tape`), and
+/// the body's mass is ρ A L.
+fn check_against_generator<B: CompiledBody>(body: &B, spec: BeamSpec) {
+    let compiled = KernelBody::compiled(body).unwrap();
+    let tape = BeamSpec {
+        force_tape: true,
+        ..spec
     }
-    for k in 0..3 {
-        close(got.s_t0[k], want.s_t0[k], want.mass * 2.0);
-    }
+    .body()
+    .unwrap();
+    assert!(matches!(tape.kernels(), ffr::Kernels::Tape(_)));
+    assert_eq!(compiled.layout().labels, tape.layout().labels);
+    assert_eq!(B::DOFS.len(), B::NF);
+    assert_eq!(sample_bits(&compiled, 1e-3), sample_bits(&tape, 1e-3));
+    let m = V.rho * V.area * V.length;
+    assert!((compiled.invariants().mass - m).abs() <= 1e-12 * m);
 }
 
 #[test]
 fn planar_body_without_unused_fields() {
-    let v = values();
     let body = Planar {
         name: "blade".into(),
-        length: v.length,
-        rho: v.rho,
-        area: v.area,
-        iz: v.iz,
-        e: v.e,
+        length: V.length,
+        rho: V.rho,
+        area: V.area,
+        iz: V.iz,
+        e: V.e,
         j: 7,
     };
     assert_eq!(<Planar as CompiledBody>::DIM, 2);
     // Pinned: node 0 loses u, v; node 3 loses v.
     assert_eq!(<Planar as CompiledBody>::NF, 4 * 3 - 3);
-    assert!(!body.has_stiffening());
-    let spec = BodySpec::new(Shape::resolve("beam2", None).unwrap(), 3, Reference::Pinned).unwrap();
-    check_against_generator(&body, spec, Options::default());
+    assert_eq!(<Planar as CompiledBody>::REFERENCE, Reference::Pinned);
+    // Unused parameters are passed as 0.
+    assert_eq!((body.params().iy, body.params().j), (0.0, 0.0));
+    let spec = BeamSpec {
+        reference: Reference::Pinned,
+        ..BeamSpec::new("beam2", 3, V)
+    };
+    check_against_generator(&body, spec);
     // The struct is kept as written (derives, other fields).
     assert_eq!(body.clone(), body);
     assert_eq!((body.name.as_str(), body.j), ("blade", 7));
@@ -100,36 +110,54 @@ fn planar_body_without_unused_fields() {
 
 #[test]
 fn generic_struct_with_options() {
-    let v = values();
     let tag = String::from("t");
     let body = Tagged {
         tag: &tag,
-        length: v.length,
-        rho: v.rho,
-        area: v.area,
-        iy: v.iy,
-        iz: v.iz,
-        e: v.e,
-        g: v.g,
-        j: v.j,
+        length: V.length,
+        rho: V.rho,
+        area: V.area,
+        iy: V.iy,
+        iz: V.iz,
+        e: V.e,
+        g: V.g,
+        j: V.j,
     };
     assert_eq!(<Tagged<'_, String> as CompiledBody>::NF, 12);
-    assert!(body.has_stiffening());
-    let spec = BodySpec::new(
-        Shape::resolve("beam3", None).unwrap(),
-        2,
-        Reference::Clamped,
-    )
-    .unwrap()
-    .with_formalism(Formalism::Lumped);
-    check_against_generator(&body, spec, Options { stiffening: true });
-    // Stiffening is active: a stretched and bent state gives a force.
-    let q: Vec<f64> = (0..12).map(|i| 1e-3 * (i as f64 + 1.0)).collect();
-    let mut force = vec![0.0; 12];
-    body.stiffening(&q, &mut force, None);
-    assert!(force.iter().any(|f| *f != 0.0));
-    let mut out = InertiaTerms::zeros(12);
-    body.inertia_terms(&q, &mut out);
-    assert!(out.i_theta_theta[(0, 0)] > 0.0);
+    let spec = BeamSpec {
+        formalism: Formalism::Lumped,
+        stiffening: Stiffening::FourthOrder,
+        ..BeamSpec::new("beam3", 2, V)
+    };
+    check_against_generator(&body, spec.clone());
+    // A different option would be a different body: the check can fail.
+    let second = BeamSpec {
+        stiffening: Stiffening::SecondOrder,
+        force_tape: true,
+        ..spec
+    }
+    .body()
+    .unwrap();
+    let compiled = KernelBody::compiled(&body).unwrap();
+    assert_ne!(sample_bits(&compiled, 1e-3), sample_bits(&second, 1e-3));
     assert_eq!(body.tag, "t");
+}
+
+#[test]
+fn planar_shape_in_a_spatial_scene() {
+    let body = InSpace {
+        length: V.length,
+        rho: V.rho,
+        area: V.area,
+        iz: V.iz,
+        e: V.e,
+    };
+    let compiled = KernelBody::compiled(&body).unwrap();
+    assert_eq!(compiled.layout().scene_dim, 3);
+    assert_eq!(compiled.layout().dim, 2);
+    let spec = BeamSpec {
+        stiffening: Stiffening::SecondOrder,
+        scene_dim: Some(3),
+        ..BeamSpec::new("beam2", 2, V)
+    };
+    check_against_generator(&body, spec);
 }

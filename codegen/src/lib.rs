@@ -31,7 +31,7 @@ pub mod scene;
 pub mod shape;
 
 pub use body::{BodySpec, Dof, ExactInvariants, Formalism, Reference};
-pub use builder::Builder;
+pub use builder::{BodyConfig, Builder, KernelConfig};
 pub use emit::{emit_body_file, emit_kernels_file, EmitOptions};
 pub use eom::KernelModel;
 pub use error::{Error, Location};

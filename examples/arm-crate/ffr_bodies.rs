@@ -4,14 +4,17 @@
 
 /// Every body of the crate, generated into `OUT_DIR/<name>.rs`.
 fn ffr_bodies() -> ffr_codegen::Builder {
-    use ffr_codegen::{Builder, Formalism, Reference};
+    use ffr_codegen::{BodyConfig, Builder, Formalism, Reference, Stiffening};
     Builder::new()
         // The same beam as `attr::Arm`.
-        .body("arm", "beam3", 8, Reference::Clamped)
+        .body(BodyConfig::new("arm", "beam3", 8, Reference::Clamped))
         // A user shape file, relative to the crate root.
-        .body("bar", "shapes/bar.toml", 4, Reference::Clamped)
-        // Non-default options: lumped masses and geometric stiffening.
-        .body("spinning_blade", "beam2", 3, Reference::Pinned)
-        .formalism(Formalism::Lumped)
-        .stiffening(true)
+        .body(BodyConfig::new("bar", "shapes/bar.toml", 4, Reference::Clamped))
+        // Options belong to their body: lumped masses and fourth-order
+        // geometric stiffening for this one only.
+        .body(
+            BodyConfig::new("spinning_blade", "beam2", 3, Reference::Pinned)
+                .formalism(Formalism::Lumped)
+                .stiffening(Stiffening::FourthOrder),
+        )
 }

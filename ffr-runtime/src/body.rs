@@ -402,3 +402,67 @@ impl<B: Body + ?Sized> Body for Box<B> {
         (**self).point_shape(x)
     }
 }
+
+/// The bit patterns of everything `body` computes — invariants, mass blocks,
+/// forces, tangent and elastic energy, at rest and at a deterministic
+/// deformed, moving state of amplitude `amplitude` (in the units of the
+/// coordinates) — to check that two builds of one body (an attribute and a
+/// build script, compiled kernels and tapes) agree to the last bit.
+pub fn sample_bits(body: &dyn Body, amplitude: f64) -> Vec<u64> {
+    let lay = body.layout();
+    let nf = lay.nf;
+    let hb = lay.half_bandwidth;
+    let wave = |phase: f64| -> Vec<f64> {
+        (0..nf)
+            .map(|i| amplitude * ((i as f64 + 1.0) * 0.7 + phase).sin())
+            .collect()
+    };
+    let mut bits = vec![nf as u64, lay.dim as u64, lay.scene_dim as u64];
+    let mut push = |xs: &[f64]| bits.extend(xs.iter().map(|x| x.to_bits()));
+    let inv = body.invariants();
+    push(&[inv.mass]);
+    push(inv.s_t0.as_slice());
+    push(inv.s_bar.as_slice());
+    for k in 0..3 {
+        for l in 0..3 {
+            push(inv.s_kl[k][l].as_slice());
+            push(inv.i_kl[k][l].as_slice());
+        }
+    }
+    push(inv.theta.as_slice());
+    push(inv.m_ff.as_slice());
+    push(inv.k_ff.as_slice());
+    let mut w = body.work();
+    let mut forces = BodyForces::zeros(nf);
+    let mut tangent = BodyTangent::zeros(nf, hb);
+    let mut mass = BodyMass::zeros(nf, hb);
+    let frame = [0.3, -0.2, 0.1, 0.5, -0.4, 0.2, 1.5, -0.7, 0.9];
+    for scale in [0.0, 1.0] {
+        let q: Vec<f64> = wave(0.0).iter().map(|x| scale * x).collect();
+        let qd: Vec<f64> = wave(1.0).iter().map(|x| scale * 10.0 * x).collect();
+        let qdd: Vec<f64> = wave(2.0).iter().map(|x| scale * 100.0 * x).collect();
+        let state = BodyState {
+            q_f: &q,
+            qd_f: &qd,
+            qdd_f: &qdd,
+            frame: frame.map(|f| f * scale),
+        };
+        body.mass(&q, &mut w, &mut mass);
+        push(&mass.s_t);
+        push(&mass.m_ff.to_dense().as_slice().to_vec());
+        push(&mass.m_f_frame);
+        push(&mass.m_ref_f);
+        push(&mass.m_ref_frame);
+        body.forces(&state, lay.free_frame, &mut w, &mut forces);
+        push(&forces.f_r);
+        push(&forces.f_th);
+        push(&forces.f_f);
+        body.tangent(&state, 4.0e4, 2.0e2, lay.free_frame, &mut w, &mut forces, &mut tangent);
+        push(&tangent.k_ff.to_dense().as_slice().to_vec());
+        push(&tangent.d_f_frame);
+        push(&tangent.k_ref_f);
+        push(&tangent.d_ref_frame);
+        push(&[body.elastic_energy(&q, &mut w)]);
+    }
+    bits
+}

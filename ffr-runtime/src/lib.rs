@@ -30,7 +30,7 @@ pub mod system;
 pub use assembly::Assembly;
 pub use body::{
     BandBuf, Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork, Invariants,
-    PointShape,
+    PointShape, sample_bits,
 };
 pub use driver::Driver;
 pub use error::{Error, Result};

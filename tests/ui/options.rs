@@ -27,4 +27,10 @@ pub struct Twice { pub length: f64, pub rho: f64, pub area: f64, pub iz: f64, pu
 #[ffr::flex_body(reference = "clamped")]
 pub struct Missing { pub length: f64, pub rho: f64, pub area: f64, pub iz: f64, pub e: f64 }
 
+#[ffr::flex_body(shape = "beam3", elements = 2, scene = "planar")]
+pub struct Flat { pub length: f64, pub rho: f64, pub area: f64, pub iy: f64, pub iz: f64, pub e: f64, pub g: f64, pub j: f64 }
+
+#[ffr::flex_body(shape = "beam2", elements = 2, scene = "lunar", stiffening = "third-order")]
+pub struct Lunar { pub length: f64, pub rho: f64, pub area: f64, pub iz: f64, pub e: f64 }
+
 fn main() {}
