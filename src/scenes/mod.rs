@@ -1,1 +1,2 @@
+pub mod pendulum;
 pub mod spin_up;
