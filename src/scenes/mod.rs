@@ -1,2 +1,3 @@
+pub mod free_floating;
 pub mod pendulum;
 pub mod spin_up;
