@@ -47,7 +47,7 @@ use crate::runtime::nalgebra::{
 use crate::runtime::rotation::Rotation;
 use crate::runtime::spec::{Params, Reference};
 use crate::runtime::{Assembly, Body, BodyId, BodyMass, KernelBody, Pose, System};
-use crate::scenes::pendulum::{beam_spec, constraint_violation, Beam};
+use crate::scenes::pendulum::{beam_spec, constraint_violation, Beam, BeamScene};
 use clap::Args;
 use std::ops::ControlFlow;
 use std::time::Instant;
@@ -522,9 +522,7 @@ pub fn scene<B: Body>(
 /// velocity `(0.5, 1, 2)` rad/s (in the plane only the z component), the
 /// body deformed in its first elastic mode (amplitude `amplitude`) and moving
 /// in its second at rate `ω₂ · amplitude`.
-pub fn system(
-    args: &FreeFloatingArgs,
-) -> Result<(System<KernelBody<Kernels>>, BodyId), Box<dyn std::error::Error>> {
+pub fn system(args: &FreeFloatingArgs) -> Result<BeamScene, Box<dyn std::error::Error>> {
     let body = free_body(args.beam, args.elements as usize, true)?;
     let modes = elastic_modes(&body);
     if modes.len() < 2 {

@@ -219,10 +219,11 @@ pub fn scene<B: Body>(body: B) -> Result<(System<B>, BodyId), Box<dyn std::error
     Ok((sys, b))
 }
 
+/// A system of one compiled beam body, and the body.
+pub type BeamScene = (System<KernelBody<Kernels>>, BodyId);
+
 /// The pendulum system of `args` (compiled beam body, [`scene`]).
-pub fn system(
-    args: &PendulumArgs,
-) -> Result<(System<KernelBody<Kernels>>, BodyId), Box<dyn std::error::Error>> {
+pub fn system(args: &PendulumArgs) -> Result<BeamScene, Box<dyn std::error::Error>> {
     let body = beam_spec(
         args.beam,
         args.elements as usize,
