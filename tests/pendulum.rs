@@ -12,7 +12,7 @@
 //!   halving dt divides it by 4.0 and 5.6 (2e-3 → 1e-3 s) — the same numbers
 //!   as before the runtime was rewritten (1.2e-6, 4.2e-6, 4.0, 5.6);
 //! - `Φ`: the index-3 scheme solves `Φ(q_{n+1}) = 0` in each step, so `‖Φ‖` is
-//!   the Newton tolerance, not a discretization error (measured 1.1e-16 in
+//!   the Newton tolerance, not a discretization error (measured 5e-16 in
 //!   space); in the plane the joint at the frame origin of a clamped body is
 //!   linear (`R = 0`) and holds exactly;
 //! - `Φ̇ = Φ_q q̇`: not enforced by the index-3 scheme; in space (the
@@ -69,7 +69,7 @@ fn spatial_pendulum_conserves_energy_to_second_order_and_holds_the_joint() {
     assert!(fine.energy_drift < 1e-5, "{fine:?}");
     let ratio = coarse.energy_drift / fine.energy_drift;
     assert!((3.0..8.0).contains(&ratio), "second order: ratio {ratio}");
-    // Newton tolerance (measured 1.1e-16).
+    // Newton tolerance (measured 5e-16).
     assert!(fine.max_phi < 1e-9, "{fine:?}");
     // Velocity constraints: O(dt²) integration error.
     assert!(fine.max_phi_dot < 2e-4, "{fine:?}");

@@ -119,28 +119,35 @@ fn modal(axial_mass_factor: f64, rotary: bool, dt: f64) -> (f64, f64, f64, f64) 
 
 /// The custom body's analytic derivatives (body-frame forces of constant
 /// invariants) and the whole scene's iteration matrix agree with central
-/// differences of the residual (measured 2.7e-11 with Simeon's rod, 4.0e-11
-/// with the beam rod, relative to the column), at a state along the run.
+/// differences of the residual, entry by entry (the runtime's oracle), at a
+/// state along the run: measured 1.2e-10 and 1.0e-9 with Simeon's rod
+/// (asserted 1e-8), 4.3e-7 with the generated beam rod (asserted 1e-6, the
+/// bound `tests/jacobian.rs` uses for generated bodies: the difference
+/// quotient's noise on the smallest entries of columns mixing `EI/l³`-sized
+/// stiffness with inertia).
 #[test]
 fn iteration_matrix_of_the_scene_matches_differences() {
-    let cases: [(&str, Box<dyn Body>, _); 3] = [
+    let cases: [(&str, Box<dyn Body>, _, f64); 3] = [
         (
             "Simeon's rod",
             simeon_rod(15.0, false),
             simeon_init(&SIMEON_INIT),
+            1e-8,
         ),
         (
             "Simeon's rod + rotary inertia",
             simeon_rod(1.0, true),
             simeon_init(&SIMEON_INIT),
+            1e-8,
         ),
         (
             "beam2 × 4",
             Box::new(beam_rod(4).body().unwrap()),
             beam_init(&SIMEON_INIT),
+            1e-6,
         ),
     ];
-    for (name, rod, init) in cases {
+    for (name, rod, init, bound) in cases {
         let sc = slider_crank_guided(rod, &init, SliderGuide::Prismatic).unwrap();
         let h = 5e-5;
         let mut st = None;
@@ -158,7 +165,7 @@ fn iteration_matrix_of_the_scene_matches_differences() {
         let lam: Vec<f64> = s.lambda.iter().map(|l| l / bp).collect();
         let (err, col) = asm.iteration_matrix_error(s.t, &s.q, &s.v, &s.a, &lam, bp, gp);
         println!("{name}: iteration matrix vs differences {err:e} (column {col})");
-        assert!(err < 1e-7, "{name}: {err:e} at column {col}");
+        assert!(err < bound, "{name}: {err:e} at column {col}");
     }
     // The mass blocks are the invariants' (S̄, m_ff; Ī_θθ at q = 0 from Θ).
     let rod = SimeonRod::new(15.0, false);
@@ -173,8 +180,8 @@ fn iteration_matrix_of_the_scene_matches_differences() {
 }
 
 /// The prismatic joint and the former coordinate constraints are the same
-/// mechanism: the runs agree to the Newton tolerance (measured
-/// differences at 0.1 s below 1e-12 relative in `q₁`, 1e-15 m in `x₃`).
+/// mechanism: the runs agree to the Newton tolerance (4 elements, to 0.05 s;
+/// measured 1e-13 relative in the midpoint deflection, 1e-15 m in `x₃`).
 #[test]
 fn prismatic_joint_equals_constrained_slider_coordinates() {
     let run = |guide| {
