@@ -390,15 +390,18 @@ fn time(mut f: impl FnMut()) -> f64 {
 /// alike), each number the minimum over the rounds. Release only:
 /// `cargo test --release --test spin_up_spatial -- --ignored --nocapture`.
 ///
-/// Measured (2 shared cores, load ≈ 4):
+/// Measured on the current core (extrapolating predictor), 2 shared cores at
+/// load 4.5–6, the smallest of three invocations; whole-run figures vary by
+/// up to 30 % between invocations under that load, the component costs by a
+/// few per cent:
 ///
 /// | scene | unknowns | µs/step | × planar | Newton/step | matrices/step | residual µs | matrix µs | factor µs | solve µs |
 /// |---|---|---|---|---|---|---|---|---|---|
-/// | planar beam2 | 24 | 7.2 | 1.00 | 4.33 | 0.44 | 0.58 | 2.23 | 1.6 | 0.42 |
-/// | prescribed beam2 in space | 24 | 8.0 | 1.11 | 4.33 | 0.44 | 0.67 | 2.50 | 1.6 | 0.42 |
-/// | prescribed beam3 | 48 | 19.3 | 2.68 | 4.33 | 0.44 | 1.97 | 9.38 | 5.0 | 0.51 |
-/// | joint-driven beam2 in space | 38 | 28.3 | 3.93 | 4.20 | 0.95 | 1.98 | 13.07 | 5.0 | 0.63 |
-/// | joint-driven beam3 | 62 | 62.4 | 8.65 | 4.20 | 0.95 | 6.07 | 26.50 | 9.9 | 0.84 |
+/// | planar beam2 | 24 | 5.0 | 1.00 | 3.46 | 0.09 | 0.58 | 2.20 | 1.6 | 0.42 |
+/// | prescribed beam2 in space | 24 | 5.9 | 1.18 | 3.45 | 0.09 | 0.67 | 2.44 | 1.6 | 0.42 |
+/// | prescribed beam3 | 48 | 12.4 | 2.49 | 3.45 | 0.09 | 1.83 | 9.13 | 5.0 | 0.51 |
+/// | joint-driven beam2 in space | 38 | 27.1 | 5.41 | 4.88 | 0.71 | 1.94 | 13.19 | 4.6 | 0.63 |
+/// | joint-driven beam3 | 62 | 68.8 | 13.45 | 4.88 | 0.71 | 5.90 | 26.16 | 10.5 | 0.84 |
 #[test]
 #[ignore]
 fn per_step_cost() {
