@@ -874,11 +874,74 @@ impl<'s, B: Body> Assembly<'s, B> {
 
     /// Factor the matrix in the solver.
     pub fn factor(&mut self, t: f64, what: &'static str) -> Result<()> {
-        self.solver.factor().map_err(|e| Error::Singular {
-            what,
-            t,
-            detail: e.to_string(),
-        })
+        match self.solver.factor() {
+            Ok(()) => Ok(()),
+            Err(e) => Err(Error::Singular {
+                what,
+                t,
+                detail: self.describe_singular(&e),
+            }),
+        }
+    }
+
+    /// The solver's failure with the unknown it stopped at named (the body
+    /// and coordinate, or the constraint row), so that the message says
+    /// which coordinate has no inertia or which joint is redundant.
+    fn describe_singular(&self, e: &crate::linalg::Singular) -> String {
+        use crate::linalg::Part;
+        let slot = match e.part {
+            Part::Block(b) => Slot::Band(b as u32, e.column as u32),
+            Part::Schur => Slot::Border(e.column as u32),
+            Part::Matrix => return e.to_string(),
+        };
+        if let Some(c) = self.coord_slot.iter().position(|s| *s == slot) {
+            let Some(b) = self
+                .sys
+                .bodies
+                .iter()
+                .find(|b| (b.offset..b.offset + b.n_coords()).contains(&c))
+            else {
+                return e.to_string();
+            };
+            let k = c - b.offset;
+            let name = if k < b.d {
+                ["R_x", "R_y", "R_z"][k].to_string()
+            } else if k < b.d + b.n_theta {
+                if b.n_theta == 1 {
+                    "θ".to_string()
+                } else {
+                    format!("e{}", k - b.d)
+                }
+            } else {
+                b.body
+                    .layout()
+                    .labels
+                    .get(k - b.d - b.n_theta)
+                    .cloned()
+                    .unwrap_or_else(|| format!("q_f[{}]", k - b.d - b.n_theta))
+            };
+            return format!(
+                "{e}: coordinate `{name}` of body `{}` ({})",
+                b.name,
+                b.body.layout().description
+            );
+        }
+        if let Slot::Border(g) = slot {
+            if let Some(k) = self.mult_slot.iter().position(|s| *s == g) {
+                if let Some(&(i, _)) = self.norm_rows.iter().find(|(_, row)| *row == k) {
+                    return format!(
+                        "{e}: the Euler-parameter normalization of body `{}`",
+                        self.sys.bodies[i].name
+                    );
+                }
+                for (c, cw) in self.sys.constraints.iter().zip(&self.cons) {
+                    if (cw.first..cw.first + c.rows.len()).contains(&k) {
+                        return format!("{e}: row {} of a {} joint", k - cw.first, c.kind);
+                    }
+                }
+            }
+        }
+        e.to_string()
     }
 
     /// Solve `J x = rhs` with the factored matrix: `rhs` in coordinate/row

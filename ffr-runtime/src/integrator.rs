@@ -520,6 +520,8 @@ fn ga_step<B: Body>(
     }
     let mut jacs = 0;
     let mut prev = f64::INFINITY;
+    // Smallest update seen in this step (round-off detection).
+    let mut least = f64::INFINITY;
     let mut fresh = false;
     let mut since_fresh = 0usize;
     let mut res_norm = f64::NAN;
@@ -612,8 +614,12 @@ fn ga_step<B: Body>(
         let theta = err / prev;
         // Round-off: after an iteration on a fresh matrix the updates have
         // stopped shrinking (they are the noise of the residual's
-        // evaluation), and are within 10⁶ of the tolerance.
-        let stalled = since_fresh >= 1 && theta >= 0.5 && err <= 1e6;
+        // evaluation), and are within 10⁶ of the tolerance. "Stopped
+        // shrinking" is judged against the smallest update of the step, not
+        // only the previous one: at round-off, refreshing the matrix can
+        // alternate a larger and a smaller noise update forever (each
+        // smaller than half the one before it, never below the tolerance).
+        let stalled = since_fresh >= 1 && err >= 0.5 * least && err <= 1e6;
         if err <= 1.0 || (it >= 2 && theta < 0.5 && err * theta / (1.0 - theta) <= 1.0) || stalled {
             for c in 0..n {
                 w.acc[c] = (w.a[c] * (1.0 - af) + s.a[c] * af - w.acc[c] * am) / (1.0 - am);
@@ -635,6 +641,7 @@ fn ga_step<B: Body>(
         }
         fresh = false;
         prev = err;
+        least = least.min(err);
     }
     w.have_jac = false;
     Err(Error::NoConvergence {

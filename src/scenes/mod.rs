@@ -1,1 +1,4 @@
+pub mod free_floating;
+pub mod pendulum;
+pub mod slider_crank;
 pub mod spin_up;

@@ -256,3 +256,36 @@ pub fn run(cfg: &SpinUp) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
     }
     Ok(res)
 }
+
+/// The spin-up modelled in space with the hub as a joint: the beam (`beam3`
+/// if `cfg.spatial`, else `beam2` generated for a spatial scene) in a
+/// spatial scene with Euler parameters, a revolute joint between a ground
+/// marker at the origin and the body-frame origin (`R = 0`, `z_g · x_b =
+/// z_g · y_b = 0`: the rotations about x and y locked) and the hub angle
+/// `θ(t)` imposed by [`System::prescribe_rotation`] (`x_b · (cos θ y_g −
+/// sin θ x_g) = 0`). Unlike [`system`], whose frame motion is prescribed
+/// (eliminated), the frame coordinates here are unknowns of the integrator,
+/// held by 6 joint rows and the Euler-parameter normalization; the body's
+/// kernels need their reference rows.
+pub fn joint_driven_system(
+    cfg: &SpinUp,
+) -> Result<(System<KernelBody<Kernels>>, KernelBody<Kernels>), Box<dyn std::error::Error>> {
+    if !(cfg.omega_s.is_finite() && cfg.t_ramp > 0.0 && cfg.t_ramp.is_finite()) {
+        return Err(format!(
+            "spin-up needs a finite ω_s and T > 0 (got {}, {})",
+            cfg.omega_s, cfg.t_ramp
+        )
+        .into());
+    }
+    let mut spec = cfg.beam();
+    spec.scene_dim = Some(3);
+    let body = spec.body()?;
+    let probe = spec.body()?;
+    let mut sys = System::spatial();
+    let b = sys.add_body("beam", body, Pose::identity(3))?;
+    let hub = crate::runtime::Marker::ground(crate::runtime::nalgebra::Vector3::zeros());
+    let origin = crate::runtime::Marker::origin(b);
+    sys.revolute(hub.clone(), origin.clone())?;
+    sys.prescribe_rotation(hub, origin, cfg.driver())?;
+    Ok((sys, probe))
+}
