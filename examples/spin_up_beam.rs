@@ -12,11 +12,11 @@ use std::process::ExitCode;
 #[derive(Parser)]
 struct Cli {
     #[command(flatten)]
-    args: ffr::spin_up::SpinUpArgs,
+    args: ffr::cli::SpinUpArgs,
 }
 
 fn main() -> ExitCode {
-    match ffr::spin_up::run(&Cli::parse().args) {
+    match ffr::cli::spin_up(&Cli::parse().args) {
         Ok(_) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

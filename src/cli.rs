@@ -368,8 +368,14 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
     if let Some((t, y)) = r.min_transverse() {
         println!("peak tip deflection (hub frame): {y:.5} m at t = {t:.2} s");
     }
-    if let Some(reference) = crate::reference::spin_up(args.omega).filter(|_| r.diverged.is_none()) {
-        if let Some((rel, abs)) = reference.error("tip_transverse", &r.t, &r.tip_transverse, args.t_end.min(30.0)) {
+    if let Some(reference) = crate::reference::spin_up(args.omega).filter(|_| r.diverged.is_none())
+    {
+        if let Some((rel, abs)) = reference.error(
+            "tip_transverse",
+            &r.t,
+            &r.tip_transverse,
+            args.t_end.min(30.0),
+        ) {
             let (_, yr) = reference.min("tip_transverse").unwrap_or((0.0, f64::NAN));
             println!(
                 "against the geometrically exact reference (peak {yr:.5} m; {}): history error {rel:.2e} relative, {abs:.2e} m",
@@ -421,7 +427,10 @@ pub fn run_scene(
     println!(
         "scene {}{}",
         scene.origin,
-        scene.description.as_ref().map_or(String::new(), |d| format!(": {d}"))
+        scene
+            .description
+            .as_ref()
+            .map_or(String::new(), |d| format!(": {d}"))
     );
     for (b, k) in &scene.kernels {
         println!("  body `{b}`: {k}");
@@ -431,7 +440,11 @@ pub fn run_scene(
     }
     for (name, col) in names.iter().zip(&cols) {
         if let (Some(first), Some(last)) = (col.first(), col.last()) {
-            let (lo, hi) = col.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+            let (lo, hi) = col
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                    (a.min(v), b.max(v))
+                });
             println!("  {name}: {first:.6e} → {last:.6e} (min {lo:.6e}, max {hi:.6e})");
         }
     }
@@ -441,9 +454,17 @@ pub fn run_scene(
     );
     println!("wrote {} and {}", csv.display(), svg.display());
     if let Some(f) = &r.failed {
-        return Err(format!("the run stopped at t = {:.6} s: {f}", r.t.last().copied().unwrap_or(0.0)).into());
+        return Err(format!(
+            "the run stopped at t = {:.6} s: {f}",
+            r.t.last().copied().unwrap_or(0.0)
+        )
+        .into());
     }
-    let bad = r.columns.iter().zip(&names).find(|(c, _)| c.iter().any(|v| !v.is_finite()));
+    let bad = r
+        .columns
+        .iter()
+        .zip(&names)
+        .find(|(c, _)| c.iter().any(|v| !v.is_finite()));
     if let Some((_, n)) = bad {
         return Err(format!("output `{n}` is not finite: the run is not valid").into());
     }
@@ -458,13 +479,18 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             check_params(&p, &[])?;
             let beam = body.beam(p)?;
             let kernels = beam.kernels()?;
-            let used = crate::runtime::ElementKernels::info(&kernels).params_used.to_vec();
+            let used = crate::runtime::ElementKernels::info(&kernels)
+                .params_used
+                .to_vec();
             check_params(&p, &used)?;
             let b = beam.body()?;
             let inv = b.invariants();
             check_invariants(&inv, &b.layout().labels, beam.formalism)?;
             if json {
-                println!("{}", serde_json::to_string(&invariants_json(&inv, &b.layout().labels))?);
+                println!(
+                    "{}",
+                    serde_json::to_string(&invariants_json(&inv, &b.layout().labels))?
+                );
             } else {
                 print_summary(&b.layout().description, &inv, &b.layout().labels);
             }
@@ -483,8 +509,12 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 (None, Some(n)) => {
                     let cfg = kernel.config(&type_name)?;
                     let model = cfg.model(Path::new("."))?;
-                    let spec = BodySpec::new(model.shape.clone(), n as usize, reference.parse::<Reference>()?)?
-                        .with_formalism(model.formalism);
+                    let spec = BodySpec::new(
+                        model.shape.clone(),
+                        n as usize,
+                        reference.parse::<Reference>()?,
+                    )?
+                    .with_formalism(model.formalism);
                     let set = generate_kernels(&model)?;
                     check_literals(&set)?;
                     crate::codegen::emit_body_file(
@@ -517,7 +547,11 @@ const AXES: [&str; 3] = ["x", "y", "z"];
 
 /// Every number finite, and (consistent formalism) every diagonal entry of
 /// `m_ff` positive; the error names the quantity as `invariants --json` keys it.
-pub fn check_invariants(inv: &Invariants, dofs: &[String], formalism: Formalism) -> Result<(), String> {
+pub fn check_invariants(
+    inv: &Invariants,
+    dofs: &[String],
+    formalism: Formalism,
+) -> Result<(), String> {
     let dof = |a: usize| dofs.get(a).map_or(String::new(), |l| format!(" ({l})"));
     let bad = |q: String, v: f64| {
         format!("{q} is {v} at these parameters, not a finite number: the parameters or the shape's coefficients are too large or too small for f64")
@@ -540,7 +574,11 @@ pub fn check_invariants(inv: &Invariants, dofs: &[String], formalism: Formalism)
             if !inv.theta[(k, l)].is_finite() {
                 return Err(bad(format!("theta.{key}"), inv.theta[(k, l)]));
             }
-            if let Some((a, v)) = inv.i_kl[k][l].iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            if let Some((a, v)) = inv.i_kl[k][l]
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !v.is_finite())
+            {
                 return Err(bad(format!("Ikl.{key}[{a}]{}", dof(a)), *v));
             }
             for (i, v) in inv.s_kl[k][l].iter().enumerate() {
@@ -555,7 +593,10 @@ pub fn check_invariants(inv: &Invariants, dofs: &[String], formalism: Formalism)
         for (i, v) in m.iter().enumerate() {
             if !v.is_finite() {
                 let n = inv.nf();
-                return Err(bad(format!("{name}[{}][{}]{}", i % n, i / n, dof(i % n)), *v));
+                return Err(bad(
+                    format!("{name}[{}][{}]{}", i % n, i / n, dof(i % n)),
+                    *v,
+                ));
             }
         }
     }
@@ -577,7 +618,9 @@ pub fn invariants_json(inv: &Invariants, dofs: &[String]) -> Value {
     let d = inv.dim;
     let n = inv.nf();
     let mat = |m: &crate::runtime::nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
-        (0..n).map(|i| (0..n).map(|j| m[(i, j)]).collect()).collect()
+        (0..n)
+            .map(|i| (0..n).map(|j| m[(i, j)]).collect())
+            .collect()
     };
     let keyed = |f: &dyn Fn(usize, usize) -> Value| {
         let mut m = serde_json::Map::new();
@@ -614,7 +657,9 @@ fn print_summary(description: &str, inv: &Invariants, dofs: &[String]) {
             (0..d).map(|l| inv.theta[(k, l)]).collect::<Vec<_>>()
         );
     }
-    let diag = |m: &crate::runtime::nalgebra::DMatrix<f64>| (0..m.nrows()).map(|i| m[(i, i)]).collect::<Vec<_>>();
+    let diag = |m: &crate::runtime::nalgebra::DMatrix<f64>| {
+        (0..m.nrows()).map(|i| m[(i, i)]).collect::<Vec<_>>()
+    };
     println!("diag m_ff = {:?}", diag(&inv.m_ff));
     println!("diag K_ff = {:?}", diag(&inv.k_ff));
 }

@@ -20,7 +20,9 @@ pub fn time_svg(
             .iter()
             .flat_map(|(_, v)| v.iter().copied())
             .filter(|v| v.is_finite());
-        let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+        let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
         let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
         let pad = 0.05 * (hi - lo).max(1e-9 * (1.0 + hi.abs()));
         let root = SVGBackend::with_string(&mut svg, (900, 500)).into_drawing_area();
@@ -84,7 +86,9 @@ pub fn csv(t: &[f64], names: &[&str], columns: &[&[f64]]) -> String {
         s.push_str(&crate::output::number(*ti));
         for c in columns {
             s.push(',');
-            s.push_str(&crate::output::number(c.get(i).copied().unwrap_or(f64::NAN)));
+            s.push_str(&crate::output::number(
+                c.get(i).copied().unwrap_or(f64::NAN),
+            ));
         }
         s.push('\n');
     }

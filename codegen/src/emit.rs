@@ -690,7 +690,10 @@ pub fn emit_scene_file(
             "a compiled scene needs the runtime path of the `ffr` crate (`…::runtime`), found `{runtime_path}`"
         ))
     })?;
-    let dir = path.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
+    let dir = path
+        .parent()
+        .map(std::path::Path::to_path_buf)
+        .unwrap_or_default();
     let mut items = String::new();
     let mut header = String::new();
     writeln!(
@@ -735,7 +738,13 @@ pub fn emit_scene_file(
             })
             .collect();
         let kt = format!("{type_name}{body_type}Kernels");
-        writeln!(header, "// Body `{}` → `{kt}`: {}.", comment_text(&m.name), describe(&set)).unwrap();
+        writeln!(
+            header,
+            "// Body `{}` → `{kt}`: {}.",
+            comment_text(&m.name),
+            describe(&set)
+        )
+        .unwrap();
         writeln!(header, "//   operations per call:").unwrap();
         for (name, p) in set.programs() {
             writeln!(header, "//     {name:<20} {}", p.ops()).unwrap();

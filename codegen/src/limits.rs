@@ -19,9 +19,9 @@
 
 use crate::error::Error;
 use crate::kernel::KernelSet;
-use ffr_spec::Params;
 use crate::poly::Param;
 use crate::program::{Expr, Program};
+use ffr_spec::Params;
 
 /// Largest shape file read, in bytes (1 MiB). A shape file is a few hundred
 /// bytes to a few kilobytes; the file is read through a bound, so
@@ -130,11 +130,7 @@ fn param_meaning(p: Param) -> &'static str {
 pub fn check_params(p: &Params, used: &[Param]) -> Result<(), Error> {
     p.validate_only(used).map_err(|e| Error::Parameter {
         name: e.param.field().to_string(),
-        message: format!(
-            "{} ({})",
-            e.reason(),
-            param_meaning(e.param)
-        ),
+        message: format!("{} ({})", e.reason(), param_meaning(e.param)),
     })
 }
 

@@ -242,7 +242,10 @@ impl RawJoint {
     pub fn folds(&self) -> bool {
         self.kind.get_ref() == "revolute"
             && self.motor.is_none()
-            && self.drive.as_ref().is_some_and(|d| d.get_ref().angle.is_some())
+            && self
+                .drive
+                .as_ref()
+                .is_some_and(|d| d.get_ref().angle.is_some())
             && self
                 .a
                 .as_ref()

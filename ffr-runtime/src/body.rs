@@ -457,7 +457,15 @@ pub fn sample_bits(body: &dyn Body, amplitude: f64) -> Vec<u64> {
         push(&forces.f_r);
         push(&forces.f_th);
         push(&forces.f_f);
-        body.tangent(&state, 4.0e4, 2.0e2, lay.free_frame, &mut w, &mut forces, &mut tangent);
+        body.tangent(
+            &state,
+            4.0e4,
+            2.0e2,
+            lay.free_frame,
+            &mut w,
+            &mut forces,
+            &mut tangent,
+        );
         push(&tangent.k_ff.to_dense().as_slice().to_vec());
         push(&tangent.d_f_frame);
         push(&tangent.k_ref_f);

@@ -29,8 +29,8 @@ pub mod system;
 
 pub use assembly::Assembly;
 pub use body::{
-    BandBuf, Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork, Invariants,
-    PointShape, sample_bits,
+    sample_bits, BandBuf, Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork,
+    Invariants, PointShape,
 };
 pub use driver::Driver;
 pub use error::{Error, Result};

@@ -70,8 +70,8 @@ impl<K: ElementKernels> KernelBody<K> {
         kernels.coefficients(&params, l, &mut coef);
         if let Some(i) = coef.iter().position(|c| !c.is_finite()) {
             return Err(Error::InvalidInput(format!(
-                "the parameters give a non-finite coefficient (c[{i}] = {}) for `{}` with {elements} elements: check their magnitudes",
-                coef[i], info.shape
+                "the parameters ({}) give the element coefficient c[{i}] = {} for {elements} × `{}`: a product of parameters is beyond the range of f64",
+                params.describe(&info.params_used), coef[i], info.shape
             )));
         }
         let layout = BodyLayout {

@@ -181,6 +181,17 @@ impl Params {
         p.field_index().map(|i| self.to_array()[i])
     }
 
+    /// `name = value` for the parameters in `used` (messages).
+    pub fn describe(&self, used: &[Param]) -> String {
+        Param::FIELDS
+            .iter()
+            .zip(self.to_array())
+            .filter(|(p, _)| used.contains(p))
+            .map(|(p, v)| format!("{} = {v:e}", p.field()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
     /// `l = L / N`.
     pub fn elem_length(&self, elements: usize) -> f64 {
         self.length / elements as f64
@@ -189,16 +200,7 @@ impl Params {
     /// Every value finite; `length, rho, area, e` strictly positive;
     /// `iy, iz, g, j` not negative.
     pub fn validate(&self) -> Result<(), ParamError> {
-        self.validate_only(&[])
-    }
-
-    /// [`Params::validate`] for the parameters in `used` only (a shape that
-    /// does not read a parameter accepts any value, 0 included).
-    pub fn validate_only(&self, used: &[Param]) -> Result<(), ParamError> {
         for (p, v) in Param::FIELDS.iter().zip(self.to_array()) {
-            if !used.contains(p) {
-                continue;
-            }
             let ok = v.is_finite()
                 && if p.must_be_positive() {
                     v > 0.0
@@ -206,6 +208,22 @@ impl Params {
                     v >= 0.0
                 };
             if !ok {
+                return Err(ParamError {
+                    param: *p,
+                    value: v,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The parameters in `used` finite and strictly positive (a section
+    /// constant a body uses and that is 0 leaves a direction without
+    /// stiffness or inertia); a shape that does not read a parameter accepts
+    /// any value, 0 included.
+    pub fn validate_only(&self, used: &[Param]) -> Result<(), ParamError> {
+        for (p, v) in Param::FIELDS.iter().zip(self.to_array()) {
+            if used.contains(p) && !(v.is_finite() && v > 0.0) {
                 return Err(ParamError {
                     param: *p,
                     value: v,
@@ -231,9 +249,31 @@ mod tests {
             .to_string()
             .starts_with("parameter `area`"));
         let bad = Params { iz: -1.0, ..p };
-        assert!(bad.validate().unwrap_err().to_string().contains("≥ 0"));
+        assert!(bad
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("`iz` must not be negative, found -1"));
         let bad = Params { e: f64::NAN, ..p };
-        assert!(bad.validate().is_err());
+        assert!(bad
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("`e` must be finite"));
+        // A parameter the body uses must be positive; others may be 0 or anything.
+        let used = [Param::Length, Param::Rho, Param::Area, Param::Iz, Param::E];
+        assert!(p.validate_only(&used).is_ok());
+        let e = p.validate_only(&[Param::Iy]).unwrap_err();
+        assert_eq!(e.param, Param::Iy);
+        assert!(e
+            .to_string()
+            .contains("must be positive for this body, which uses it, found 0"));
+        let odd = Params {
+            j: f64::NAN,
+            g: -1.0,
+            ..p
+        };
+        assert!(odd.validate_only(&used).is_ok());
         assert_eq!(Params::from_array(p.to_array()), p);
     }
 }

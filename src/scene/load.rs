@@ -4,8 +4,8 @@
 //! coordinates prescribed, so it runs its elastic equations only).
 
 use crate::codegen::scene::{
-    flex_models, FlexBodyModel, RawBody, RawForce, RawIntegrator, RawMotor, RawOutput,
-    RawProfile, RawScene,
+    flex_models, FlexBodyModel, RawBody, RawForce, RawIntegrator, RawMotor, RawOutput, RawProfile,
+    RawScene,
 };
 use crate::codegen::Location;
 use crate::compiled::{BeamSpec, Kernels};
@@ -142,7 +142,10 @@ impl KernelProvider for DefaultKernels {
             free_frame: m.free_frame,
             zero_frame_acceleration: m.zero_frame_acceleration,
         };
-        Ok((Box::new(crate::evaluated::TapeKernels::new(&model)?), "tape"))
+        Ok((
+            Box::new(crate::evaluated::TapeKernels::new(&model)?),
+            "tape",
+        ))
     }
 }
 

@@ -110,9 +110,9 @@ fn options_are_the_same_both_ways() {
     let nf = <attr::SpinningBlade as CompiledBody>::NF;
     let q: Vec<f64> = (0..nf).map(|i| 2e-2 * (i as f64 + 1.0).sin()).collect();
     let k = body.invariants().k_ff;
-    let linear = 0.5 * (k.clone() * ffr::runtime::nalgebra::DVector::from_column_slice(&q)).dot(
-        &ffr::runtime::nalgebra::DVector::from_column_slice(&q),
-    );
+    let linear = 0.5
+        * (k.clone() * ffr::runtime::nalgebra::DVector::from_column_slice(&q))
+            .dot(&ffr::runtime::nalgebra::DVector::from_column_slice(&q));
     let energy = body.elastic_energy(&q, &mut body.work());
     assert!(
         (energy - linear).abs() > 1e-9 * linear,
