@@ -51,13 +51,12 @@ pub const MAX_EXPONENT: u32 = 64;
 /// and the cost of those products stays bounded.
 pub const MAX_SYMBOL_DEGREE: u32 = 8;
 
-/// Highest power of the element length `l` in an entry and in every
-/// intermediate result. `l` carries the length unit of a rotation
-/// coordinate's shape (`l·(ξ − 2ξ² + ξ³)`), so beam shapes use `l⁰` and `l¹`.
+/// Highest power of the element length `l` in every intermediate result
+/// while an entry is parsed. A finished entry has the units of its
+/// coordinate (checked in [`crate::shape`]): every term of a translation's
+/// column has `l⁰`, every term of a rotation's `l¹` (`l·(ξ − 2ξ² + ξ³)`).
 /// The number of distinct powers of `l` multiplies the size of the
-/// stiffening energy, whose exact expansion grows with its square: with
-/// `l²` allowed, the worst shape at the other limits takes about 15 s to
-/// generate with stiffening in the test profile (against 3 s with `l¹`).
+/// stiffening energy, whose exact expansion grows with its square.
 pub const MAX_L_DEGREE: u32 = 2;
 
 /// Highest total degree (sum of the exponents of `xi, eta, zeta, l`) of a

@@ -242,7 +242,7 @@ mod tests {
             "try", "f64", "u8", "a b",
         ] {
             let e = check_type_name(bad, "--type-name").unwrap_err();
-            assert!(e.starts_with(&format!("--type-name `")), "{e}");
+            assert!(e.starts_with("--type-name `"), "{e}");
         }
         assert!(check_identifier(&"a".repeat(65), "x").is_err());
         assert!(check_identifier("f64", "body name").is_ok());

@@ -326,6 +326,12 @@ impl Shape {
                         format!("S[{r}][{}] (`{shown}`): {}", coordinates[a].name, e.message),
                     )
                 })?;
+                check_units(&poly, coordinates[a].kind).map_err(|m| {
+                    at(
+                        content_start,
+                        format!("S[{r}][{}] (`{shown}`): {m}", coordinates[a].name),
+                    )
+                })?;
                 check_entry(&poly, dimension).map_err(|m| {
                     at(
                         content_start,
@@ -460,6 +466,33 @@ fn toml_message(message: &str, text: &str, offset: usize) -> String {
     } else {
         m.to_string()
     }
+}
+
+/// Every term of a column of `S` must have the units of the displacement
+/// per unit of its coordinate: `ξ`, `η = y/l`, `ζ = z/l` and the numbers are
+/// dimensionless, so a translation's entries have no factor `l` and a
+/// rotation's (radians) exactly one. Beyond physics this matters for the
+/// numbers: a column that mixes powers of `l` (`ξη(1 − l)`) has a mass that
+/// cancels in floating point (exactly zero at `l = 1`), while a homogeneous
+/// column's mass is a sum of non-negative terms, positive when evaluated.
+fn check_units(p: &Poly, kind: Kind) -> Result<(), String> {
+    let want = if kind.is_translation() { 0 } else { 1 };
+    for (m, _) in p.terms() {
+        let got = m.exp(Sym::Param(crate::poly::Param::ElemLength));
+        if got != want {
+            return Err(if want == 0 {
+                format!(
+                    "the term `{m}` has the factor l^{got}, but the shape of a translation coordinate ({kind}) is dimensionless: no factor l (xi, eta = y/l and zeta = z/l are dimensionless)"
+                )
+            } else {
+                format!(
+                    "the term `{m}` has {}, but every term of the shape of a rotation coordinate ({kind}) needs exactly one factor l (a rotation moves points by a length, e.g. `l*(xi - 2*xi^2 + xi^3)`)",
+                    if got == 0 { "no factor l".to_string() } else { format!("the factor l^{got}") }
+                )
+            });
+        }
+    }
+    Ok(())
 }
 
 /// An entry may use only section moments the model has: every monomial is at

@@ -112,9 +112,11 @@ fn coefficient() -> BoxedStrategy<String> {
     .boxed()
 }
 
-/// A valid-looking entry: a sum of terms `c · xi^a · l^b · (eta | zeta | 1)`,
-/// possibly in Hermite style with parentheses.
-fn good_entry(spatial: bool) -> BoxedStrategy<String> {
+/// A valid-looking entry: a sum of terms `c · xi^a · (eta | zeta | 1)`, times
+/// `l` for a rotation coordinate (the units of `S`), possibly in Hermite
+/// style with parentheses. (Wrong powers of `l` come from [`mutate`] and
+/// [`expression`].)
+fn good_entry(spatial: bool, rotation: bool) -> BoxedStrategy<String> {
     let section = if spatial {
         select(&["", "", "", "*eta", "*zeta"])
     } else {
@@ -123,7 +125,7 @@ fn good_entry(spatial: bool) -> BoxedStrategy<String> {
     let term = (
         coefficient(),
         0u32..5,
-        select(&["", "", "*l"]),
+        Just(if rotation { "*l" } else { "" }),
         section,
         any::<bool>(),
     )
@@ -135,19 +137,30 @@ fn good_entry(spatial: bool) -> BoxedStrategy<String> {
             };
             format!("{}{c}{x}{l}{s}", if neg { "-" } else { "" })
         });
-    let mut hermite = vec![
-        "1 - 3*xi^2 + 2*xi^3",
-        "l*(xi - 2*xi^2 + xi^3)",
-        "6*(xi - xi^2)*eta",
-        "(1 - 4*xi + 3*xi^2)*l*eta",
-        "(1 - xi)^2*(1 + 2*xi)",
-        "xi^2*(3 - 2*xi)",
-        "l*xi^2*(xi - 1)",
-        "1 - xi",
-        "xi",
-    ];
+    let mut hermite = if rotation {
+        vec![
+            "l*(xi - 2*xi^2 + xi^3)",
+            "(1 - 4*xi + 3*xi^2)*l*eta",
+            "l*xi^2*(xi - 1)",
+            "-l*(-xi^2 + xi^3)",
+            "(2*xi - 3*xi^2)*l*eta",
+        ]
+    } else {
+        vec![
+            "1 - 3*xi^2 + 2*xi^3",
+            "6*(xi - xi^2)*eta",
+            "(1 - xi)^2*(1 + 2*xi)",
+            "xi^2*(3 - 2*xi)",
+            "1 - xi",
+            "xi",
+        ]
+    };
     if spatial {
-        hermite.extend(["(1 - 4*xi + 3*xi^2)*l*zeta", "-(1 - xi)*l*zeta"]);
+        hermite.extend(if rotation {
+            ["(1 - 4*xi + 3*xi^2)*l*zeta", "-(1 - xi)*l*zeta"]
+        } else {
+            ["6*(xi^2 - xi)*zeta", "6*(xi - xi^2)*zeta"]
+        });
     }
     prop_oneof![
         1 => Just("0".to_string()),
@@ -270,11 +283,11 @@ fn mutate(s: BoxedStrategy<String>) -> BoxedStrategy<String> {
 }
 
 /// An entry of `S`.
-fn entry(spatial: bool) -> BoxedStrategy<String> {
+fn entry(spatial: bool, rotation: bool) -> BoxedStrategy<String> {
     prop_oneof![
-        10 => good_entry(spatial),
+        10 => good_entry(spatial, rotation),
         3 => expression(),
-        2 => mutate(good_entry(spatial)),
+        2 => mutate(good_entry(spatial, rotation)),
     ]
     .boxed()
 }
@@ -409,12 +422,18 @@ fn shape_text() -> BoxedStrategy<String> {
             };
             let rows = if spatial { 3 } else { 2 };
             let width = if flaw(6) { n + 1 } else { n };
-            let one = if mode == Mode::Clean {
-                good_entry(spatial)
-            } else {
-                entry(spatial)
+            // One strategy per entry: the power of `l` depends on the column.
+            let column = |j: usize| {
+                let rotation = coords.get(j).is_some_and(|c| c.2.starts_with('r'));
+                if mode == Mode::Clean {
+                    good_entry(spatial, rotation)
+                } else {
+                    entry(spatial, rotation)
+                }
             };
-            let entries = prop::collection::vec(prop::collection::vec(one, width), rows);
+            let entries: Vec<Vec<BoxedStrategy<String>>> = (0..rows)
+                .map(|_| (0..width).map(column).collect())
+                .collect();
             let field = if hostile {
                 (0u8..8).boxed()
             } else {
@@ -591,7 +610,7 @@ fn check_case(c: &Case, verified_from: &mut Option<Duration>) -> Result<Outcome,
             return Err(format!("m_ff[{a}][{a}] = {d} ({:?})", c.formalism));
         }
     }
-    if !(inv.mass > 0.0) {
+    if inv.mass.is_nan() || inv.mass <= 0.0 {
         return Err(format!("mass {}", inv.mass));
     }
     check_invariants(&inv, c.formalism).map_err(|e| format!("check_invariants: {e}"))?;
@@ -803,7 +822,7 @@ fn fuzz_shapes() {
     }
     if save {
         let mut kinds: Vec<(String, usize)> = KINDS.lock().unwrap().clone().into_iter().collect();
-        kinds.sort_by(|a, b| b.1.cmp(&a.1));
+        kinds.sort_by_key(|k| std::cmp::Reverse(k.1));
         println!("most frequent refusals:");
         for (k, n) in kinds.iter().take(40) {
             println!("  {n:7}  {k}");
