@@ -257,7 +257,11 @@ fn min_median(reps: usize) {
     println!("| case | calls/batch | min (ns/call) | median (ns/call) |");
     println!("|---|---|---|---|");
     for (name, mut f) in cases() {
-        // Calibrate the batch.
+        // Warm up (about 10 ms), then calibrate the batch.
+        let t = Instant::now();
+        while t.elapsed() < Duration::from_millis(10) {
+            f();
+        }
         let mut calls = 1usize;
         loop {
             let t = Instant::now();
