@@ -13,6 +13,7 @@
 //!   the reference's stiffening energy, force and tangent, both models;
 //! - (c) the `mass` kernel against the reference's `S_t(q)`, `Ī_θθ(q)`,
 //!   `Ī_θf(q)`, `m_ff`, `S̄`;
+//! - `point_shape` against the reference's shape matrix;
 //! - (d) the whole `residual` kernel (`f_r`, `f_θ`, `f_f`) against
 //!   d'Alembert's principle evaluated by quadrature: the body-frame
 //!   acceleration of every quadrature point, `ā + α × u + ω × (ω × u) +
@@ -667,4 +668,56 @@ fn dalembert_quadrature_agrees_with_the_reference_inertia() {
     let st = b.s_t(&q);
     assert!((f_th - w.cross(&(itt * w))).norm() <= 1e-13 * f_th.norm());
     assert!((f_r - w.cross(&w.cross(&st))).norm() <= 1e-13 * f_r.norm());
+}
+
+/// The `point_shape` program: `S(ξ)` on the centre line and the section
+/// rotation `ψ = ½ ∇ × u` against the reference's shape matrix (`∂/∂y`,
+/// `∂/∂z` by differences of `S`, linear in `η`, `ζ`; `∂/∂x` of the centre
+/// line from its `centerline_grad`).
+#[test]
+fn point_shape_matches_the_reference_shape() {
+    use ffr_codegen::eom::OutArr;
+    use ffr_codegen::program::Inputs;
+    for shape in SHAPES {
+        let set = kernel_set(shape, Formalism::Consistent, Stiffening::Off, 3, false);
+        let n = set.n();
+        let rs = rf_shape(shape);
+        for rp in param_sets() {
+            let l = rp.length / 3.0;
+            let c = coefficients(&set, &params_of(&rp), l);
+            let mut run = Run::new(&set.point_shape);
+            for xi in [0.0, 0.23, 0.5, 0.81, 1.0] {
+                let (mut s, mut psi) = (DMatrix::zeros(3, n), DMatrix::zeros(3, n));
+                run.run(
+                    &Inputs {
+                        coef: &c,
+                        xi,
+                        ..Inputs::default()
+                    },
+                    |arr, i, v| match arr {
+                        OutArr::S => s[(i / n, i % n)] = v,
+                        OutArr::Psi => psi[(i / n, i % n)] = v,
+                        other => panic!("{other:?}"),
+                    },
+                );
+                let s0 = rs.elem_s(l, xi, 0.0, 0.0);
+                let s_ref = DMatrix::from_fn(3, n, |k, a| s0[(k, a)]);
+                // ∂S/∂y = (S(η = 1) − S(η = −1)) / (2 l), likewise z.
+                let d = |eta: f64, zeta: f64| {
+                    let (p, m) = (rs.elem_s(l, xi, eta, zeta), rs.elem_s(l, xi, -eta, -zeta));
+                    DMatrix::from_fn(3, n, |k, a| (p[(k, a)] - m[(k, a)]) / (2.0 * l))
+                };
+                let (dy, dz) = (d(1.0, 0.0), d(0.0, 1.0));
+                let (_, bx, cx) = rs.centerline_grad(l, xi);
+                let psi_ref = DMatrix::from_fn(3, n, |k, a| match k {
+                    0 => 0.5 * (dy[(2, a)] - dz[(1, a)]),
+                    1 => 0.5 * (dz[(0, a)] - cx[a]),
+                    _ => 0.5 * (bx[a] - dy[(0, a)]),
+                });
+                let t = format!("{shape} L={} ξ={xi}", rp.length);
+                check(&format!("{t}: S"), &s, &s_ref, 0.0, TOL);
+                check(&format!("{t}: ψ"), &psi, &psi_ref, 0.0, 1e-11);
+            }
+        }
+    }
 }
