@@ -12,6 +12,13 @@ fn body_file(shape: &str, n: usize, s: Stiffening) -> usize {
         .body(BodyConfig::new("arm", shape, n, Reference::Clamped).stiffening(s))
         .render()
         .unwrap();
+    let lines = files[0].contents.lines().count();
+    if n == 32 {
+        eprintln!(
+            "{shape} N=32 {s}: {} bytes, {lines} lines",
+            files[0].contents.len()
+        );
+    }
     files[0].contents.len()
 }
 
