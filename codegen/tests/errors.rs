@@ -172,3 +172,46 @@ fn unknown_shape_missing_file_and_bad_body() {
     let e = "hinged".parse::<Reference>().unwrap_err().to_string();
     assert!(e.contains("expected clamped, pinned or free"), "{e}");
 }
+
+#[test]
+fn kernel_options_that_make_no_sense() {
+    use ffr_codegen::builder::KernelConfig;
+    use ffr_codegen::{Formalism, Stiffening};
+    let base = std::path::Path::new(".");
+    let e = KernelConfig::new("k", "beam3")
+        .scene_dim(2)
+        .model(base)
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "invalid body: shape `beam3` is spatial: it needs a spatial scene (scene dimension 3)"
+    );
+    let e = KernelConfig::new("k", "beam2")
+        .scene_dim(4)
+        .model(base)
+        .unwrap_err()
+        .to_string();
+    assert_eq!(e, "invalid body: scene dimension must be 2 or 3, found 4");
+    assert!(KernelConfig::new("k", "beam2")
+        .scene_dim(3)
+        .model(base)
+        .is_ok());
+    let e = "quadratic".parse::<Stiffening>().unwrap_err();
+    assert_eq!(
+        e,
+        "unknown stiffening `quadratic`: expected on, off, second-order or fourth-order"
+    );
+    assert_eq!("on".parse::<Stiffening>(), Ok(Stiffening::FourthOrder));
+    assert_eq!("true".parse::<Stiffening>(), Ok(Stiffening::FourthOrder));
+    assert_eq!("off".parse::<Stiffening>(), Ok(Stiffening::Off));
+    assert_eq!(
+        "second-order".parse::<Stiffening>(),
+        Ok(Stiffening::SecondOrder)
+    );
+    let e = "diagonal".parse::<Formalism>().unwrap_err();
+    assert_eq!(
+        e,
+        "unknown formalism `diagonal`: expected consistent or lumped"
+    );
+}

@@ -1,50 +1,124 @@
 //! Generated code pinned by `insta` snapshots (review changes with
 //! `cargo insta review`), and its determinism.
+//!
+//! The element-kernel files of beam2 in a planar scene and beam3 in a
+//! spatial scene, with and without (fourth-order) stiffening, one lumped;
+//! and the items a fixed-mesh body adds to its kernels.
 
-use ffr_codegen::{emit_file, BodySpec, EmitOptions, Options, Reference, Shape};
+use ffr_codegen::builder::{BodyConfig, Builder, KernelConfig};
+use ffr_codegen::{
+    emit_kernels_file, generate_kernels, Formalism, KernelModel, Reference, Shape, Stiffening,
+};
 
-fn emit(shape: &str, n: usize, stiffening: bool) -> String {
-    let spec = BodySpec::new(Shape::resolve(shape, None).unwrap(), n, Reference::Clamped).unwrap();
-    let g = ffr_codegen::generate(&spec, Options { stiffening }).unwrap();
-    let opts = EmitOptions {
-        type_name: format!("{}N{n}", shape.replace("beam", "Beam")),
-        ..EmitOptions::default()
-    };
-    emit_file(&g, &opts)
+fn kernels(shape: &str, scene_dim: usize, formalism: Formalism, stiffening: Stiffening) -> String {
+    let set = generate_kernels(&KernelModel {
+        shape: Shape::resolve(shape, None).unwrap(),
+        formalism,
+        stiffening,
+        scene_dim,
+        free_frame: true,
+    })
+    .unwrap();
+    let name = format!(
+        "{}{}",
+        shape.replace("beam", "Beam"),
+        if scene_dim == 2 { "Planar" } else { "Spatial" }
+    );
+    emit_kernels_file(&set, &name, "::ffr_runtime")
 }
 
 #[test]
-fn beam2_one_element() {
-    insta::assert_snapshot!(emit("beam2", 1, false));
+fn beam2_planar() {
+    insta::assert_snapshot!(kernels("beam2", 2, Formalism::Consistent, Stiffening::Off));
 }
 
 #[test]
-fn beam2_two_elements() {
-    insta::assert_snapshot!(emit("beam2", 2, false));
+fn beam2_planar_fourth_order() {
+    insta::assert_snapshot!(kernels(
+        "beam2",
+        2,
+        Formalism::Consistent,
+        Stiffening::FourthOrder
+    ));
 }
 
 #[test]
-fn beam2_one_element_with_stiffening() {
-    insta::assert_snapshot!(emit("beam2", 1, true));
+fn beam2_planar_lumped() {
+    insta::assert_snapshot!(kernels("beam2", 2, Formalism::Lumped, Stiffening::Off));
 }
 
 #[test]
-fn beam3_one_element() {
-    insta::assert_snapshot!(emit("beam3", 1, false));
+fn beam3_spatial() {
+    insta::assert_snapshot!(kernels("beam3", 3, Formalism::Consistent, Stiffening::Off));
 }
 
 #[test]
-fn beam3_two_elements() {
-    insta::assert_snapshot!(emit("beam3", 2, false));
+fn beam3_spatial_fourth_order() {
+    insta::assert_snapshot!(kernels(
+        "beam3",
+        3,
+        Formalism::Consistent,
+        Stiffening::FourthOrder
+    ));
+}
+
+/// What a fixed-mesh body file adds to its kernels: the header's coordinate
+/// list, the parameter struct and the `CompiledBody` implementation (the
+/// kernels themselves are pinned above).
+#[test]
+fn beam2_body_items() {
+    let files = Builder::new()
+        .runtime_path("::ffr_runtime")
+        .body(
+            BodyConfig::new("arm", "beam2", 3, Reference::Pinned)
+                .stiffening(Stiffening::SecondOrder),
+        )
+        .render()
+        .unwrap();
+    let text = &files[0].contents;
+    let header: String = text
+        .lines()
+        .take_while(|l| l.starts_with("//"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let start = text
+        .find("/// Parameters of an FFR body")
+        .expect("the parameter struct");
+    insta::assert_snapshot!(format!("{header}\n[… ArmKernels …]\n\n{}", &text[start..]));
 }
 
 #[test]
 fn output_is_byte_identical_for_the_same_input() {
-    for (shape, n) in [("beam2", 3), ("beam3", 2)] {
-        let a = emit(shape, n, true);
-        let b = emit(shape, n, true);
-        assert_eq!(a, b, "{shape} {n}: two runs differ");
+    for (shape, scene) in [("beam2", 2), ("beam3", 3)] {
+        for s in [
+            Stiffening::Off,
+            Stiffening::SecondOrder,
+            Stiffening::FourthOrder,
+        ] {
+            let a = kernels(shape, scene, Formalism::Consistent, s);
+            let b = kernels(shape, scene, Formalism::Consistent, s);
+            assert_eq!(a, b, "{shape} {s}: two runs differ");
+        }
     }
+}
+
+/// The builder writes exactly what `emit_kernels_file` gives.
+#[test]
+fn builder_kernels_are_the_emitted_file() {
+    let files = Builder::new()
+        .runtime_path("::ffr_runtime")
+        .kernels(
+            KernelConfig::new("beam3_spatial", "beam3")
+                .stiffening(Stiffening::FourthOrder)
+                .scene_dim(3),
+        )
+        .render()
+        .unwrap();
+    assert_eq!(files[0].type_name, "Beam3Spatial");
+    assert_eq!(
+        files[0].contents,
+        kernels("beam3", 3, Formalism::Consistent, Stiffening::FourthOrder)
+    );
 }
 
 #[test]

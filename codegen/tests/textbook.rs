@@ -267,3 +267,43 @@ fn m_ff_is_the_sum_of_the_diagonal_s_kl_and_s_lk_is_the_transpose() {
         }
     }
 }
+
+/// The element invariants the kernels are generated from, in `l` and the
+/// element offset `x₀`: `m = ρAl`, `S_t0,x = ρAl (x₀ + l/2)`,
+/// `Θ_xx = ρA ∫ x² dx = ρAl (x₀² + x₀ l + l²/3)` (consistent) and
+/// `½ρAl (x₀² + (x₀ + l)²)` (lumped: half the mass at each end).
+#[test]
+fn element_invariants_in_l_and_x0() {
+    use ffr_codegen::body::element_invariants;
+    let l = Poly::var(Sym::Param(Param::ElemLength));
+    let x0 = Poly::var(Sym::X0);
+    let rho_a = Poly::var(Sym::Param(Rho)).mul(&Poly::var(Sym::Param(Area)));
+    let m = rho_a.mul(&l);
+    for shape in ["beam2", "beam3"] {
+        let s = Shape::resolve(shape, None).unwrap();
+        for f in [Formalism::Consistent, Formalism::Lumped] {
+            let inv = element_invariants(&s, f).unwrap();
+            assert_eq!(inv.mass, m, "{shape} {f}");
+            assert_eq!(
+                inv.s_t0[0],
+                m.mul(&x0.add(&l.scale(&rat(1, 2)))),
+                "{shape} {f}"
+            );
+            let theta = match f {
+                Formalism::Consistent => x0
+                    .mul(&x0)
+                    .add(&x0.mul(&l))
+                    .add(&l.mul(&l).scale(&rat(1, 3))),
+                Formalism::Lumped => x0.mul(&x0).add(&x0.add(&l).pow(2)).scale(&rat(1, 2)),
+            };
+            assert_eq!(inv.theta[0][0], m.mul(&theta), "{shape} {f}");
+            // The element K does not depend on where the element is.
+            for i in 0..inv.nf {
+                for j in 0..inv.nf {
+                    assert!(!inv.k_ff.get(i, j).contains(Sym::X0));
+                    assert!(!inv.m_ff.get(i, j).contains(Sym::X0));
+                }
+            }
+        }
+    }
+}

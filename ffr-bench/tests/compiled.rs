@@ -1,173 +1,347 @@
-//! The compiled generated code computes bit for bit what the generator's
-//! evaluator (`ffr invariants --json`) reports, and agrees with the
-//! theory-sheet formulas applied to its own invariants (`InvariantBody`).
+//! The compiled generated code computes bit for bit what tapes of the same
+//! programs compute: every kernel function of every kernel set built into
+//! this crate (beam2 planar and spatial scene, beam3, consistent and lumped,
+//! every stiffening model, free and prescribed frame) at random inputs; and
+//! the fixed-mesh bodies (`CompiledBody`) assembled by `KernelBody` against
+//! the same bodies on tapes.
 
-use ffr_bench::{Beam2N4, Beam3N1, Beam3N32, Beam3N8};
-use ffr_codegen::{BodySpec, Options, ParamValues, Reference, Shape};
-use ffr_runtime::{CompiledBody, FlexBody, InertiaTerms, InvariantBody, Params};
-use nalgebra::DMatrix;
+use ffr_bench::configs::{BODIES, KERNELS};
+use ffr_bench::tape::TapeKernels;
+use ffr_bench::{compiled, kernel_set, params, random};
+use ffr_codegen::builder::BodyConfig;
+use ffr_codegen::{generate_kernels, BodySpec};
+use ffr_runtime::spec::{Formalism, Params, Reference, Stiffening};
+use ffr_runtime::{
+    Body, BodyForces, BodyMass, BodyState, BodyTangent, CompiledBody, ElementKernels, KernelBody,
+    KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut,
+};
 
-fn params() -> Params {
-    Params {
-        length: 2.5,
-        rho: 2700.0,
-        area: 3e-4,
-        iy: 2.1e-9,
-        iz: 4.4e-9,
-        e: 7e10,
-        g: 2.6e10,
-        j: 5.3e-9,
+/// Bit-for-bit equality of two slices (NaN = NaN with the same bits).
+fn same(what: &str, a: &[f64], b: &[f64]) {
+    assert_eq!(a.len(), b.len(), "{what}: lengths");
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        assert!(
+            x.to_bits() == y.to_bits(),
+            "{what}[{i}]: compiled {x:e} vs tape {y:e}"
+        );
     }
 }
 
-fn values(p: &Params) -> ParamValues {
-    ParamValues {
-        length: p.length,
-        rho: p.rho,
-        area: p.area,
-        iy: p.iy,
-        iz: p.iz,
-        e: p.e,
-        g: p.g,
-        j: p.j,
+/// What the kernel writes differs from what it leaves alone: fill outputs
+/// with this before a call, so both must write the same entries.
+const UNSET: f64 = 1.2345e300;
+
+fn info_without_scratch(i: &KernelInfo) -> KernelInfo {
+    KernelInfo {
+        scratch: 0,
+        ..i.clone()
     }
 }
 
-fn q_of(n: usize, scale: f64) -> Vec<f64> {
-    (0..n)
-        .map(|i| scale * ((i as f64 * 0.7311).sin() + 0.1 * i as f64 / n as f64))
-        .collect()
+/// Parameter values around `params()` (each scaled by a random factor).
+fn params_variant(seed: u64) -> Params {
+    let f = random(8, seed, 0.5);
+    let a = params().to_array();
+    Params::from_array(std::array::from_fn(|i| a[i] * (1.0 + f[i])))
 }
 
-fn bits(a: f64, b: f64) -> bool {
-    a.to_bits() == b.to_bits()
+/// Outputs of every kernel function at one set of inputs.
+#[derive(Debug, PartialEq)]
+struct All {
+    mass: Vec<Vec<f64>>,
+    residual: Vec<Vec<f64>>,
+    tangent: Vec<Vec<f64>>,
+    residual_elastic: Vec<f64>,
+    tangent_elastic: Vec<Vec<f64>>,
+    energy: f64,
+    invariants: Vec<f64>,
+    point_shape: Vec<Vec<f64>>,
 }
 
-fn check<B: CompiledBody + From<Params>>(shape: &str, n: usize, stiffening: bool) {
-    let p = params();
-    let body = B::from(p);
-    let g = ffr_codegen::generate(
-        &BodySpec::new(Shape::resolve(shape, None).unwrap(), n, Reference::Clamped).unwrap(),
-        Options { stiffening },
+struct In {
+    x0: f64,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+    frame: [f64; 9],
+    bp: f64,
+    gp: f64,
+    xi: f64,
+}
+
+fn inputs(n: usize, l: f64, seed: u64) -> In {
+    let r = random(14, seed, 1.0);
+    let mut frame = [0.0; 9];
+    for (k, f) in frame.iter_mut().enumerate() {
+        *f = r[k] * if k < 3 { 10.0 } else { 2.0 };
+    }
+    In {
+        x0: (3.0 + r[9]) * l,
+        q: random(n, seed + 1, 0.05 * l),
+        qd: random(n, seed + 2, 0.5 * l),
+        qdd: random(n, seed + 3, 5.0 * l),
+        frame,
+        bp: 4e6 * (1.0 + 0.1 * r[10]),
+        gp: 2e3 * (1.0 + 0.1 * r[11]),
+        xi: 0.5 + 0.5 * r[12],
+    }
+}
+
+fn eval(k: &dyn ElementKernels, c: &[f64], x: &In, scratch: &mut [f64]) -> All {
+    let info = k.info();
+    let n = info.n_local;
+    let (_, inv_len) = ffr_runtime::kernel::invariant_layout(n);
+    let input = KernelInput {
+        x0: x.x0,
+        q: &x.q,
+        qd: &x.qd,
+        qdd: &x.qdd,
+        frame: &x.frame,
+    };
+    let mut s_t = [UNSET; 3];
+    let mut m = [
+        vec![UNSET; n * n],
+        vec![UNSET; n * 6],
+        vec![UNSET; 6 * n],
+        vec![UNSET; 36],
+    ];
+    {
+        let [mee, mef, mre, mrf] = &mut m;
+        k.mass(
+            c,
+            x.x0,
+            &x.q,
+            &mut MassOut {
+                s_t: &mut s_t,
+                m_ee: mee,
+                m_e_frame: mef,
+                m_ref_e: mre,
+                m_ref_frame: mrf,
+            },
+            scratch,
+        );
+    }
+    let mut mass = vec![s_t.to_vec()];
+    mass.extend(m);
+    let (mut residual, mut tangent) = (Vec::new(), Vec::new());
+    if info.free_frame {
+        let (mut f_r, mut f_th, mut f_e) = ([UNSET; 3], [UNSET; 3], vec![UNSET; n]);
+        k.residual(
+            c,
+            &input,
+            &mut ResidualOut {
+                f_r: &mut f_r,
+                f_th: &mut f_th,
+                f_e: &mut f_e,
+            },
+            scratch,
+        );
+        residual = vec![f_r.to_vec(), f_th.to_vec(), f_e];
+        let (mut f_r, mut f_th, mut f_e) = ([UNSET; 3], [UNSET; 3], vec![UNSET; n]);
+        let mut t = [
+            vec![UNSET; n * n],
+            vec![UNSET; n * 9],
+            vec![UNSET; 6 * n],
+            vec![UNSET; 54],
+        ];
+        {
+            let [kee, def, kre, drf] = &mut t;
+            k.tangent(
+                c,
+                &input,
+                x.bp,
+                x.gp,
+                &mut TangentOut {
+                    f_r: &mut f_r,
+                    f_th: &mut f_th,
+                    f_e: &mut f_e,
+                    k_ee: kee,
+                    d_e_frame: def,
+                    k_ref_e: kre,
+                    d_ref_frame: drf,
+                },
+                scratch,
+            );
+        }
+        tangent = vec![f_r.to_vec(), f_th.to_vec(), f_e];
+        tangent.extend(t);
+    }
+    let mut residual_elastic = vec![UNSET; n];
+    k.residual_elastic(c, &input, &mut residual_elastic, scratch);
+    let (mut fe, mut kee) = (vec![UNSET; n], vec![UNSET; n * n]);
+    k.tangent_elastic(c, &input, x.bp, x.gp, &mut fe, &mut kee, scratch);
+    let energy = k.energy(c, &x.q, scratch);
+    let mut invariants = vec![UNSET; inv_len];
+    k.element_invariants(c, x.x0, &mut invariants, scratch);
+    let (mut s, mut psi) = (vec![UNSET; 3 * n], vec![UNSET; 3 * n]);
+    k.point_shape(c, x.xi, &mut s, &mut psi, scratch);
+    All {
+        mass,
+        residual,
+        tangent,
+        residual_elastic,
+        tangent_elastic: vec![fe, kee],
+        energy,
+        invariants,
+        point_shape: vec![s, psi],
+    }
+}
+
+fn same_all(what: &str, a: &All, b: &All) {
+    let groups = [
+        ("mass", &a.mass, &b.mass),
+        ("residual", &a.residual, &b.residual),
+        ("tangent", &a.tangent, &b.tangent),
+        ("tangent_elastic", &a.tangent_elastic, &b.tangent_elastic),
+        ("point_shape", &a.point_shape, &b.point_shape),
+    ];
+    for (name, x, y) in groups {
+        assert_eq!(x.len(), y.len(), "{what}: {name}");
+        for (i, (u, v)) in x.iter().zip(y.iter()).enumerate() {
+            same(&format!("{what}: {name} output {i}"), u, v);
+        }
+    }
+    same(
+        &format!("{what}: residual_elastic"),
+        &a.residual_elastic,
+        &b.residual_elastic,
+    );
+    same(&format!("{what}: energy"), &[a.energy], &[b.energy]);
+    same(
+        &format!("{what}: element_invariants"),
+        &a.invariants,
+        &b.invariants,
+    );
+}
+
+#[test]
+fn every_kernel_function_is_bit_for_bit_the_tape() {
+    for &(name, ..) in KERNELS {
+        let set = kernel_set(name);
+        let tape = TapeKernels::from_set(&set);
+        let comp = compiled(name).unwrap();
+        assert_eq!(
+            info_without_scratch(comp.info()),
+            info_without_scratch(tape.info()),
+            "{name}: info"
+        );
+        assert_eq!(
+            comp.info().scratch,
+            0,
+            "{name}: compiled kernels need no scratch"
+        );
+        let n = comp.info().n_local;
+        let mut scratch = vec![0.0; tape.info().scratch];
+        let nc = comp.info().n_coefficients;
+        for trial in 0..8u64 {
+            let p = if trial == 0 {
+                params()
+            } else {
+                params_variant(trial)
+            };
+            let l = p.length / (1 + trial as usize % 5) as f64;
+            let (mut cc, mut ct) = (vec![UNSET; nc], vec![UNSET; nc]);
+            comp.coefficients(&p, l, &mut cc);
+            tape.coefficients(&p, l, &mut ct);
+            same(&format!("{name} trial {trial}: coefficients"), &cc, &ct);
+            let x = inputs(n, l, 100 * trial + 7);
+            let a = eval(comp.as_ref(), &cc, &x, &mut scratch);
+            let b = eval(&tape, &ct, &x, &mut scratch);
+            same_all(&format!("{name} trial {trial}"), &a, &b);
+            // A few outputs are nonzero (the comparison is not vacuous).
+            assert!(a.energy != 0.0 && a.mass[1].iter().any(|v| *v != UNSET && *v != 0.0));
+        }
+    }
+}
+
+fn state_of(nf: usize, l: f64, seed: u64) -> (Vec<f64>, Vec<f64>, Vec<f64>, [f64; 9]) {
+    let x = inputs(nf, l, seed);
+    (x.q, x.qd, x.qdd, x.frame)
+}
+
+fn check_body<B>(name: &str)
+where
+    B: CompiledBody + From<Params>,
+{
+    let &(_, shape, n, r, f, s) = BODIES.iter().find(|b| b.0 == name).unwrap();
+    let reference: Reference = r.parse().unwrap();
+    let config = BodyConfig::new(name, shape, n, reference)
+        .formalism(f.parse::<Formalism>().unwrap())
+        .stiffening(s.parse::<Stiffening>().unwrap());
+    let model = config.kernels.model(std::path::Path::new(".")).unwrap();
+    let spec = BodySpec::new(model.shape.clone(), n, reference).unwrap();
+    assert_eq!(B::ELEMENTS, n);
+    assert_eq!(B::REFERENCE, reference);
+    assert_eq!(B::NF, spec.nf());
+    assert_eq!(B::DIM, model.shape.dimension);
+    let labels: Vec<String> = spec.dofs().iter().map(|d| d.to_string()).collect();
+    assert_eq!(
+        B::DOFS,
+        labels.iter().map(String::as_str).collect::<Vec<_>>()
+    );
+
+    let body = B::from(params());
+    let cb = KernelBody::compiled(&body).unwrap();
+    let tb = KernelBody::new(
+        TapeKernels::from_set(&generate_kernels(&model).unwrap()),
+        body.params(),
+        n,
+        reference,
     )
     .unwrap();
-    assert_eq!(B::NF, g.dofs.len());
-    assert_eq!(
-        body.dof_labels(),
-        g.dofs.iter().map(|d| d.to_string()).collect::<Vec<_>>()
-    );
-    let inv = body.invariants();
-    let ev = g.eval_invariants(&values(&p));
-    assert!(bits(inv.mass, ev.mass));
+    assert_eq!(cb.layout(), tb.layout(), "{name}: layout");
     let nf = B::NF;
-    for a in 0..nf {
-        for b in 0..nf {
-            assert!(bits(inv.m_ff[(a, b)], ev.m_ff[a][b]), "m_ff[{a}][{b}]");
-            assert!(bits(inv.k_ff[(a, b)], ev.k_ff[a][b]), "k_ff[{a}][{b}]");
-            for k in 0..3 {
-                for l in 0..3 {
-                    assert!(bits(inv.s_kl[k][l][(a, b)], ev.s_kl[k][l][a][b]));
-                }
-            }
+    let hb = cb.layout().half_bandwidth;
+    let (mut wc, mut wt) = (cb.work(), tb.work());
+    let l = params().length / n as f64;
+    for trial in 0..4 {
+        let (q, qd, qdd, frame) = state_of(nf, l, 11 + trial);
+        let st = BodyState {
+            q_f: &q,
+            qd_f: &qd,
+            qdd_f: &qdd,
+            frame,
+        };
+        let t = format!("{name} trial {trial}");
+        for frame_rows in [true, false] {
+            let (mut fc, mut ft) = (BodyForces::zeros(nf), BodyForces::zeros(nf));
+            cb.forces(&st, frame_rows, &mut wc, &mut fc);
+            tb.forces(&st, frame_rows, &mut wt, &mut ft);
+            assert_eq!(fc, ft, "{t}: forces (frame rows {frame_rows})");
+            let (mut tc, mut tt) = (BodyTangent::zeros(nf, hb), BodyTangent::zeros(nf, hb));
+            cb.tangent(&st, 4e6, 2e3, frame_rows, &mut wc, &mut fc, &mut tc);
+            tb.tangent(&st, 4e6, 2e3, frame_rows, &mut wt, &mut ft, &mut tt);
+            assert_eq!(fc, ft, "{t}: tangent's forces");
+            assert_eq!(tc, tt, "{t}: tangent (frame rows {frame_rows})");
         }
-        for k in 0..3 {
-            assert!(bits(inv.s_bar[(k, a)], ev.s_bar[k][a]));
-            for l in 0..3 {
-                assert!(bits(inv.i_kl[k][l][a], ev.i_kl[k][l][a]));
-            }
-        }
+        let (mut mc, mut mt) = (BodyMass::zeros(nf, hb), BodyMass::zeros(nf, hb));
+        cb.mass(&q, &mut wc, &mut mc);
+        tb.mass(&q, &mut wt, &mut mt);
+        assert_eq!(mc, mt, "{t}: mass");
+        let (ec, et) = (
+            cb.elastic_energy(&q, &mut wc),
+            tb.elastic_energy(&q, &mut wt),
+        );
+        assert_eq!(ec.to_bits(), et.to_bits(), "{t}: energy");
     }
-    for k in 0..3 {
-        assert!(bits(inv.s_t0[k], ev.s_t0[k]));
-        for l in 0..3 {
-            assert!(bits(inv.theta[(k, l)], ev.theta[k][l]));
-        }
-    }
-    // q_f-dependent terms: bit for bit against the evaluator, and to round-off
-    // against the theory-sheet formulas on the invariants.
-    let q = q_of(nf, 1e-2 * p.length);
-    let mut t = InertiaTerms::zeros(nf);
-    body.inertia_terms(&q, &mut t);
-    let et = g.eval_inertia(&values(&p), &q);
-    let mut f = InertiaTerms::zeros(nf);
-    InvariantBody::new(inv.clone()).inertia_terms(&q, &mut f);
-    for k in 0..3 {
-        assert!(bits(t.s_t[k], et.s_t[k]));
-        for l in 0..3 {
-            assert!(bits(t.i_theta_theta[(k, l)], et.i_theta_theta[k][l]));
-        }
-        for a in 0..nf {
-            assert!(bits(t.i_theta_f[(k, a)], et.i_theta_f[k][a]));
-        }
-    }
-    let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-300);
-    assert!((t.s_t - f.s_t).norm() <= 1e-13 * f.s_t.norm());
-    assert!((t.i_theta_theta - f.i_theta_theta).norm() <= 1e-12 * f.i_theta_theta.norm());
-    assert!((&t.i_theta_f - &f.i_theta_f).norm() <= 1e-12 * f.i_theta_f.norm());
-    assert!(rel(t.i_theta_theta[(2, 2)], f.i_theta_theta[(2, 2)]) < 1e-12);
-    // Stiffening.
-    assert_eq!(body.has_stiffening(), stiffening);
-    let mut force = vec![0.0; nf];
-    let mut kt = DMatrix::zeros(nf, nf);
-    body.stiffening(&q, &mut force, Some(&mut kt));
-    let (ef, ek) = g.eval_stiffening(&values(&p), &q);
-    for a in 0..nf {
-        assert!(bits(force[a], ef[a]), "force[{a}]");
-        for b in 0..nf {
-            assert!(bits(kt[(a, b)], ek[a][b]), "tangent[{a}][{b}]");
-        }
+    assert_eq!(cb.invariants(), tb.invariants(), "{name}: invariants");
+    for x in [0.0, 0.37, 1.0] {
+        let x = x * params().length;
+        assert_eq!(cb.point_shape(x).unwrap(), tb.point_shape(x).unwrap());
     }
 }
 
 #[test]
-fn beam3_one_element_bit_for_bit() {
-    check::<Beam3N1>("beam3", 1, false);
+fn fixed_mesh_bodies_are_bit_for_bit_the_tape_bodies() {
+    check_body::<ffr_bench::arm8::Arm8>("arm8");
+    check_body::<ffr_bench::arm32::Arm32>("arm32");
+    check_body::<ffr_bench::bar4::Bar4>("bar4");
 }
 
 #[test]
-fn beam3_eight_elements_bit_for_bit() {
-    check::<Beam3N8>("beam3", 8, false);
-}
-
-#[test]
-fn beam3_thirty_two_elements_bit_for_bit() {
-    check::<Beam3N32>("beam3", 32, false);
-}
-
-#[test]
-fn beam2_with_stiffening_bit_for_bit() {
-    check::<Beam2N4>("beam2", 4, true);
-}
-
-/// The trait's mass blocks against the theory-sheet table written out here
-/// with nalgebra's own cross-product matrix: `m_Rθ = −A S̃_t Ḡ`,
-/// `m_Rf = A S̄`, `m_θθ = Ḡᵀ Ī_θθ Ḡ`, `m_θf = Ḡᵀ Ī_θf`, for a rotation
-/// given by Euler parameters (`Ḡ = 2[−e, −ẽ + e₀I]`).
-#[test]
-fn mass_blocks_follow_the_theory_sheet() {
-    use nalgebra::{Matrix3, Matrix3xX, UnitQuaternion, Vector3};
-    let body = Beam3N8::from(params());
-    let inv = body.invariants();
-    let q = q_of(Beam3N8::NF, 1e-2);
-    let rot = UnitQuaternion::from_scaled_axis(Vector3::new(0.3, -0.7, 1.1));
-    let a = *rot.to_rotation_matrix().matrix();
-    let (e0, e) = (rot.w, rot.imag());
-    let mut g_bar = Matrix3xX::zeros(4);
-    g_bar.set_column(0, &(-2.0 * e));
-    g_bar
-        .columns_mut(1, 3)
-        .copy_from(&(2.0 * (Matrix3::identity() * e0 - e.cross_matrix())));
-    let b = body.mass_blocks(&inv, &q, &a, &g_bar);
-    let mut t = InertiaTerms::zeros(Beam3N8::NF);
-    body.inertia_terms(&q, &mut t);
-    let rel = |x: f64, scale: f64| x <= 1e-14 * scale;
-    assert_eq!(b.m_rr, inv.mass);
-    let m_rth = -(a * t.s_t.cross_matrix() * &g_bar);
-    assert!(rel((&b.m_r_theta - &m_rth).norm(), m_rth.norm()));
-    let m_rf = a * &inv.s_bar;
-    assert!(rel((&b.m_rf - &m_rf).norm(), m_rf.norm()));
-    let m_thth = g_bar.transpose() * t.i_theta_theta * &g_bar;
-    assert!(rel((&b.m_theta_theta - &m_thth).norm(), m_thth.norm()));
-    let m_thf = g_bar.transpose() * &t.i_theta_f;
-    assert!(rel((&b.m_theta_f - &m_thf).norm(), m_thf.norm()));
+fn prescribed_frame_kernels_have_no_reference_rows() {
+    let k = compiled("beam3_prescribed_fourth_order").unwrap();
+    assert!(!k.info().free_frame);
+    let set = kernel_set("beam3_prescribed_fourth_order");
+    assert!(set.residual.is_none() && set.tangent.is_none());
 }

@@ -1,0 +1,228 @@
+//! Element kernels run from tapes of the generator's programs
+//! (`Program::tape()`: the emitted code's operations in the same order), the
+//! same way the root crate's `evaluated::TapeKernels` runs them (kept here so
+//! that this crate does not build the root crate).
+
+use ffr_codegen::eom::OutArr;
+use ffr_codegen::program::{Inputs, Tape};
+use ffr_codegen::KernelSet;
+use ffr_runtime::spec::Params;
+use ffr_runtime::{ElementKernels, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut};
+use std::borrow::Cow;
+
+/// Element kernels evaluated from tapes.
+#[derive(Debug)]
+pub struct TapeKernels {
+    info: KernelInfo,
+    coefficients: Tape,
+    mass: Tape,
+    residual: Option<Tape>,
+    tangent: Option<Tape>,
+    residual_elastic: Tape,
+    tangent_elastic: Tape,
+    energy: Tape,
+    invariants: Tape,
+    point_shape: Tape,
+}
+
+impl TapeKernels {
+    /// Tapes of the programs of `set`.
+    pub fn from_set(set: &KernelSet) -> Self {
+        let m = set.model();
+        let coefficients = set.coefficient_program.tape();
+        let scratch = set
+            .programs()
+            .iter()
+            .map(|(_, p)| p.tape().n_slots())
+            .chain(std::iter::once(coefficients.n_slots()))
+            .max()
+            .unwrap_or(0);
+        Self {
+            info: KernelInfo {
+                shape: Cow::Owned(m.shape.name.clone()),
+                dim: m.shape.dimension,
+                scene_dim: m.scene_dim,
+                n_local: set.n(),
+                coordinates: Cow::Owned(m.shape.element_coordinates()),
+                formalism: m.formalism,
+                stiffening: m.stiffening,
+                free_frame: m.free_frame,
+                n_coefficients: set.coefficients.len(),
+                params_used: Cow::Owned(set.params_used()),
+                scratch,
+            },
+            coefficients,
+            mass: set.mass.tape(),
+            residual: set.residual.as_ref().map(|p| p.tape()),
+            tangent: set.tangent.as_ref().map(|p| p.tape()),
+            residual_elastic: set.residual_elastic.tape(),
+            tangent_elastic: set.tangent_elastic.tape(),
+            energy: set.energy.tape(),
+            invariants: set.element_invariants.tape(),
+            point_shape: set.point_shape.tape(),
+        }
+    }
+}
+
+fn run(t: &Tape, inputs: &Inputs, scratch: &mut [f64], mut out: impl FnMut(OutArr, usize, f64)) {
+    let slots = &mut scratch[..t.n_slots()];
+    t.run(inputs, slots);
+    for &((arr, i), r) in &t.outputs {
+        out(arr, i as usize, slots[r as usize]);
+    }
+}
+
+fn kernel_inputs<'a>(c: &'a [f64], x: &KernelInput<'a>) -> Inputs<'a> {
+    Inputs {
+        coef: c,
+        x0: x.x0,
+        frame: x.frame,
+        q: x.q,
+        qd: x.qd,
+        qdd: x.qdd,
+        ..Inputs::default()
+    }
+}
+
+impl ElementKernels for TapeKernels {
+    fn info(&self) -> &KernelInfo {
+        &self.info
+    }
+
+    fn coefficients(&self, params: &Params, l: f64, c: &mut [f64]) {
+        let mut p = [0.0; 9];
+        p[..8].copy_from_slice(&params.to_array());
+        p[8] = l;
+        let mut scratch = vec![0.0; self.coefficients.n_slots()];
+        let inputs = Inputs {
+            params: &p,
+            ..Inputs::default()
+        };
+        run(&self.coefficients, &inputs, &mut scratch, |_, i, v| {
+            c[i] = v
+        });
+    }
+
+    fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut MassOut, scratch: &mut [f64]) {
+        let inputs = Inputs {
+            coef: c,
+            x0,
+            q,
+            ..Inputs::default()
+        };
+        run(&self.mass, &inputs, scratch, |arr, i, v| match arr {
+            OutArr::St => out.s_t[i] = v,
+            OutArr::Mee => out.m_ee[i] = v,
+            OutArr::MeFrame => out.m_e_frame[i] = v,
+            OutArr::MrefE => out.m_ref_e[i] = v,
+            OutArr::MrefFrame => out.m_ref_frame[i] = v,
+            other => unreachable!("{other:?} in mass"),
+        });
+    }
+
+    fn residual(&self, c: &[f64], x: &KernelInput, out: &mut ResidualOut, scratch: &mut [f64]) {
+        let t = self.residual.as_ref().expect("no reference rows");
+        run(t, &kernel_inputs(c, x), scratch, |arr, i, v| match arr {
+            OutArr::Fr => out.f_r[i] = v,
+            OutArr::Fth => out.f_th[i] = v,
+            OutArr::Fe => out.f_e[i] = v,
+            other => unreachable!("{other:?} in residual"),
+        });
+    }
+
+    fn tangent(
+        &self,
+        c: &[f64],
+        x: &KernelInput,
+        bp: f64,
+        gp: f64,
+        out: &mut TangentOut,
+        scratch: &mut [f64],
+    ) {
+        let t = self.tangent.as_ref().expect("no reference rows");
+        let inputs = Inputs {
+            bp,
+            gp,
+            ..kernel_inputs(c, x)
+        };
+        run(t, &inputs, scratch, |arr, i, v| match arr {
+            OutArr::Fr => out.f_r[i] = v,
+            OutArr::Fth => out.f_th[i] = v,
+            OutArr::Fe => out.f_e[i] = v,
+            OutArr::Kee => out.k_ee[i] = v,
+            OutArr::DeFrame => out.d_e_frame[i] = v,
+            OutArr::KrefE => out.k_ref_e[i] = v,
+            OutArr::DrefFrame => out.d_ref_frame[i] = v,
+            other => unreachable!("{other:?} in tangent"),
+        });
+    }
+
+    fn residual_elastic(&self, c: &[f64], x: &KernelInput, f_e: &mut [f64], scratch: &mut [f64]) {
+        run(
+            &self.residual_elastic,
+            &kernel_inputs(c, x),
+            scratch,
+            |_, i, v| f_e[i] = v,
+        );
+    }
+
+    fn tangent_elastic(
+        &self,
+        c: &[f64],
+        x: &KernelInput,
+        bp: f64,
+        gp: f64,
+        f_e: &mut [f64],
+        k_ee: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        let inputs = Inputs {
+            bp,
+            gp,
+            ..kernel_inputs(c, x)
+        };
+        run(
+            &self.tangent_elastic,
+            &inputs,
+            scratch,
+            |arr, i, v| match arr {
+                OutArr::Fe => f_e[i] = v,
+                OutArr::Kee => k_ee[i] = v,
+                other => unreachable!("{other:?} in tangent_elastic"),
+            },
+        );
+    }
+
+    fn energy(&self, c: &[f64], q: &[f64], scratch: &mut [f64]) -> f64 {
+        let mut e = 0.0;
+        let inputs = Inputs {
+            coef: c,
+            q,
+            ..Inputs::default()
+        };
+        run(&self.energy, &inputs, scratch, |_, _, v| e = v);
+        e
+    }
+
+    fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64], scratch: &mut [f64]) {
+        let inputs = Inputs {
+            coef: c,
+            x0,
+            ..Inputs::default()
+        };
+        run(&self.invariants, &inputs, scratch, |_, i, v| out[i] = v);
+    }
+
+    fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64], scratch: &mut [f64]) {
+        let inputs = Inputs {
+            coef: c,
+            xi,
+            ..Inputs::default()
+        };
+        run(&self.point_shape, &inputs, scratch, |arr, i, v| match arr {
+            OutArr::S => s[i] = v,
+            OutArr::Psi => psi[i] = v,
+            other => unreachable!("{other:?} in point_shape"),
+        });
+    }
+}
