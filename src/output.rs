@@ -169,7 +169,8 @@ mod tests {
             assert!(s.len() <= 24, "{s}");
             assert_eq!(s.parse::<f64>().unwrap(), x, "{s}");
         }
-        assert_eq!(number(1.2345678901234567e-25), "1.2345678901234567e-25");
+        assert_eq!(number(1.25e-25), "1.25e-25");
+        assert_eq!(number(6.02e23), "6.02e23");
         assert_eq!(number(0.25), "0.25");
     }
 

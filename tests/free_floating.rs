@@ -27,7 +27,7 @@ const ROUND_OFF: f64 = 1e-13;
 fn equations_of_motion_conserve_momentum_to_round_off() {
     for beam in [Beam::Beam2, Beam::Beam3] {
         for (stiff, scales) in [
-            // K_ff ≈ 0 (E = 1e-200 Pa, G = 0): purely inertial, large deformations (5 % of L).
+            // K_ff ≈ 0 (E = G = 1e-200 Pa): purely inertial, large deformations (5 % of L).
             (false, StateScales::default()),
             (true, StateScales::elastic()),
         ] {

@@ -69,20 +69,20 @@ pub const POLYMER_BAR: Params = Params {
     j: 0.1406e-8,
 };
 
-/// Young's modulus of the "inertia only" bar (Pa): parameters must be
-/// positive, so instead of `E = 0` the bar gets an `E` (and `G = 0`) whose
-/// elastic forces, about 1e-200 of the inertial ones, are zero to every digit
-/// the checks can see.
+/// Young's and shear moduli of the "inertia only" bar (Pa): parameters a
+/// body uses must be positive, so instead of `E = G = 0` the bar gets moduli
+/// whose elastic forces, about 1e-200 of the inertial ones, are zero to every
+/// digit the checks can see.
 pub const NEGLIGIBLE_E: f64 = 1e-200;
 
 /// The body's description: `beam` with `elements` elements, `pinned`
-/// reference. `stiff == false` sets `E` to [`NEGLIGIBLE_E`] and `G = 0`
+/// reference. `stiff == false` sets `E` and `G` to [`NEGLIGIBLE_E`]
 /// (generated inertia only, `K_ff ≈ 0`).
 pub fn free_spec(beam: Beam, elements: usize, stiff: bool) -> BeamSpec {
     let mut p = POLYMER_BAR;
     if !stiff {
         p.e = NEGLIGIBLE_E;
-        p.g = 0.0;
+        p.g = NEGLIGIBLE_E;
     }
     beam_spec(beam, elements, Reference::Pinned, p)
 }
