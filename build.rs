@@ -1,20 +1,33 @@
 //! Generates the element kernels of the built-in shapes into `OUT_DIR`, so
 //! that the command line, the built-in scenes and the examples run compiled
-//! code (see `src/compiled.rs`). Shapes chosen at run time use tapes of the
-//! same programs instead.
+//! code (see `src/compiled.rs`): every shape × scene dimension × formalism ×
+//! stiffening model with a free frame (general), and the same for a frame
+//! whose motion is prescribed with its origin at rest and no gravity
+//! (specialized: no reference rows, no `ā` terms; the spin-up benchmark and
+//! scenes with a driven hub). Shapes chosen at run time use tapes of the same
+//! programs instead.
 
 use ffr_codegen::builder::{Builder, KernelConfig};
 use ffr_codegen::{Formalism, Stiffening};
 use std::fmt::Write;
 
-/// (shape, scene dimension) of every built-in kernel set; each is generated
-/// for both formalisms and every stiffening model.
-const SETS: [(&str, usize); 3] = [("beam2", 2), ("beam2", 3), ("beam3", 3)];
+/// (shape, scene dimension, free frame) of every built-in kernel set; each
+/// is generated for both formalisms and every stiffening model. A set with
+/// a prescribed frame is also generated for `ā ≡ 0`.
+const SETS: [(&str, usize, bool); 6] = [
+    ("beam2", 2, true),
+    ("beam2", 3, true),
+    ("beam3", 3, true),
+    ("beam2", 2, false),
+    ("beam2", 3, false),
+    ("beam3", 3, false),
+];
 
-fn name(shape: &str, scene: usize, f: Formalism, s: Stiffening) -> String {
+fn name(shape: &str, scene: usize, free: bool, f: Formalism, s: Stiffening) -> String {
     format!(
-        "{shape}_{}_{}_{}",
+        "{shape}_{}{}_{}_{}",
         if scene == 2 { "planar" } else { "spatial" },
+        if free { "" } else { "_prescribed" },
         f,
         s.to_string().replace('-', "_")
     )
@@ -35,17 +48,19 @@ fn main() {
     let out = std::path::PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
     let mut builder = Builder::new().runtime_path("::ffr_runtime").out_dir(&out);
     let mut entries = Vec::new();
-    for (shape, scene) in SETS {
+    for (shape, scene, free) in SETS {
         for f in [Formalism::Consistent, Formalism::Lumped] {
             for (s, _) in Stiffening::ALL {
-                let n = name(shape, scene, f, s);
+                let n = name(shape, scene, free, f, s);
                 builder = builder.kernels(
                     KernelConfig::new(&n, shape)
                         .formalism(f)
                         .stiffening(s)
-                        .scene_dim(scene),
+                        .scene_dim(scene)
+                        .free_frame(free)
+                        .zero_frame_acceleration(!free),
                 );
-                entries.push((n, shape, scene, f, s));
+                entries.push((n, shape, scene, free, f, s));
             }
         }
     }
@@ -64,11 +79,11 @@ fn main() {
         writeln!(reg, "    /// `{n}`.\n    {}({n}::{}),", camel(n), camel(n)).unwrap();
     }
     writeln!(reg, "}}").unwrap();
-    writeln!(reg, "/// Every built-in kernel set: (shape, scene dimension, formalism, stiffening, kernels).\npub const BUILTIN: &[(&str, usize, ffr_runtime::spec::Formalism, ffr_runtime::spec::Stiffening, BuiltinKernels)] = &[").unwrap();
-    for (n, shape, scene, f, s) in &entries {
+    writeln!(reg, "/// Every built-in kernel set: (shape, scene dimension, free frame (else prescribed with `ā ≡ 0`), formalism, stiffening, kernels).\npub const BUILTIN: &[(&str, usize, bool, ffr_runtime::spec::Formalism, ffr_runtime::spec::Stiffening, BuiltinKernels)] = &[").unwrap();
+    for (n, shape, scene, free, f, s) in &entries {
         writeln!(
             reg,
-            "    ({shape:?}, {scene}, ffr_runtime::spec::Formalism::{f:?}, ffr_runtime::spec::Stiffening::{s:?}, BuiltinKernels::{}({n}::{})),",
+            "    ({shape:?}, {scene}, {free}, ffr_runtime::spec::Formalism::{f:?}, ffr_runtime::spec::Stiffening::{s:?}, BuiltinKernels::{}({n}::{})),",
             camel(n),
             camel(n)
         )

@@ -178,6 +178,7 @@ impl BodyArgs {
             stiffening: Stiffening::Off,
             scene_dim: None,
             params,
+            frame: Default::default(),
             force_tape: self.tape,
         })
     }
@@ -220,6 +221,10 @@ pub struct SpinUpArgs {
     /// Run the kernels on tapes instead of the compiled code (comparisons).
     #[arg(long)]
     pub tape: bool,
+    /// Run the general body (kernels for a spatial scene and a free frame)
+    /// instead of the one specialized for this scene (comparisons).
+    #[arg(long)]
+    pub general: bool,
     /// Where to write `t,tip_axial,tip_transverse` (default: results/spin_up_….csv).
     #[arg(long)]
     pub csv: Option<PathBuf>,
@@ -275,6 +280,7 @@ impl SpinUpArgs {
         cfg.t_end = self.t_end;
         cfg.dt = self.dt;
         cfg.force_tape = self.tape;
+        cfg.general = self.general;
         cfg.params = Params {
             e: KRB.e * self.e_scale,
             g: KRB.g * self.e_scale,
@@ -356,7 +362,7 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
         &cols,
     )?;
     println!(
-        "spin-up beam (Kane, Ryan & Banerjee 1987): L = 8 m, ω_s = {} rad/s, T = 15 s, {} {} elements ({} kernels), {} formalism, stiffening {}{}",
+        "spin-up beam (Kane, Ryan & Banerjee 1987): L = 8 m, ω_s = {} rad/s, T = 15 s, {} {} elements (kernels: {}), {} formalism, stiffening {}{}",
         args.omega,
         args.elements,
         if cfg.spatial { "beam3 (spatial, Euler parameters)" } else { "beam2 (planar)" },

@@ -60,19 +60,26 @@ impl ElementKernels for BuiltinKernels {
     }
 }
 
-/// The compiled kernels of a built-in shape, if there are any for these options.
+/// The compiled kernels of a built-in shape for these options, if there
+/// are any: `free_frame` selects the general set, else the set specialized
+/// for a prescribed frame with `ā ≡ 0`.
 pub fn builtin(
     shape: &str,
     scene_dim: usize,
+    free_frame: bool,
     formalism: Formalism,
     stiffening: Stiffening,
 ) -> Option<BuiltinKernels> {
     BUILTIN
         .iter()
-        .find(|(s, d, f, st, _)| {
-            *s == shape && *d == scene_dim && *f == formalism && *st == stiffening
+        .find(|(s, d, free, f, st, _)| {
+            *s == shape
+                && *d == scene_dim
+                && *free == free_frame
+                && *f == formalism
+                && *st == stiffening
         })
-        .map(|e| e.4)
+        .map(|e| e.5)
 }
 
 /// Kernels of a beam body: compiled (built-in shape) or on tapes (a shape
@@ -86,11 +93,17 @@ pub enum Kernels {
 }
 
 impl Kernels {
-    /// `compiled` or `tape`.
+    /// How the kernels run and what they are specialized for: `compiled`,
+    /// `compiled, prescribed frame at rest`, `tape`, ….
     pub fn path(&self) -> &'static str {
-        match self {
-            Kernels::Compiled(_) => "compiled",
-            Kernels::Tape(_) => "tape",
+        let info = self.info();
+        match (self, info.free_frame, info.zero_frame_acceleration) {
+            (Kernels::Compiled(_), true, _) => "compiled",
+            (Kernels::Compiled(_), false, true) => "compiled, prescribed frame at rest",
+            (Kernels::Compiled(_), false, false) => "compiled, prescribed frame",
+            (Kernels::Tape(_), true, _) => "tape",
+            (Kernels::Tape(_), false, true) => "tape, prescribed frame at rest",
+            (Kernels::Tape(_), false, false) => "tape, prescribed frame",
         }
     }
 }
@@ -171,8 +184,45 @@ pub struct BeamSpec {
     pub scene_dim: Option<usize>,
     /// Parameter values.
     pub params: Params,
+    /// The frame the body moves with: free (general kernels) or prescribed
+    /// with its origin at rest and no gravity (kernels without reference
+    /// rows and `ā` terms; the system refuses them elsewhere).
+    pub frame: FrameModel,
     /// Run on tapes even if compiled kernels exist (comparisons).
     pub force_tape: bool,
+}
+
+/// What the kernels of a body assume about its frame's motion.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FrameModel {
+    /// Any frame motion (reference rows, `ā` terms): the general body.
+    #[default]
+    Free,
+    /// Frame motion prescribed (no reference rows); built-in shapes run the
+    /// general compiled kernels, shape files tapes without reference rows.
+    Prescribed,
+    /// Frame motion prescribed, origin at rest, no gravity (`ā ≡ 0`).
+    PrescribedAtRest,
+}
+
+impl FrameModel {
+    /// `(free_frame, zero_frame_acceleration)` of the kernel model.
+    pub fn flags(self) -> (bool, bool) {
+        match self {
+            FrameModel::Free => (true, false),
+            FrameModel::Prescribed => (false, false),
+            FrameModel::PrescribedAtRest => (false, true),
+        }
+    }
+
+    /// From the kernel model's flags.
+    pub fn from_flags(free_frame: bool, zero_frame_acceleration: bool) -> Self {
+        match (free_frame, zero_frame_acceleration) {
+            (false, true) => FrameModel::PrescribedAtRest,
+            (false, false) => FrameModel::Prescribed,
+            (true, _) => FrameModel::Free,
+        }
+    }
 }
 
 impl BeamSpec {
@@ -186,6 +236,7 @@ impl BeamSpec {
             stiffening: Stiffening::Off,
             scene_dim: None,
             params,
+            frame: FrameModel::Free,
             force_tape: false,
         }
     }
@@ -194,8 +245,15 @@ impl BeamSpec {
     pub fn kernels(&self) -> Result<Kernels, crate::codegen::Error> {
         let shape = crate::codegen::Shape::resolve(&self.shape, None)?;
         let scene = self.scene_dim.unwrap_or(shape.dimension);
+        let (free_frame, zero_frame_acceleration) = self.frame.flags();
         if !self.force_tape && shape.path.is_none() {
-            if let Some(k) = builtin(&self.shape, scene, self.formalism, self.stiffening) {
+            if let Some(k) = builtin(
+                &self.shape,
+                scene,
+                self.frame != FrameModel::PrescribedAtRest,
+                self.formalism,
+                self.stiffening,
+            ) {
                 return Ok(Kernels::Compiled(k));
             }
         }
@@ -204,8 +262,8 @@ impl BeamSpec {
             formalism: self.formalism,
             stiffening: self.stiffening,
             scene_dim: scene,
-            free_frame: true,
-            zero_frame_acceleration: false,
+            free_frame,
+            zero_frame_acceleration,
         };
         Ok(Kernels::Tape(Box::new(TapeKernels::new(&model)?)))
     }

@@ -56,6 +56,7 @@ impl TapeKernels {
             formalism: m.formalism,
             stiffening: m.stiffening,
             free_frame: m.free_frame,
+            zero_frame_acceleration: m.zero_frame_acceleration,
             n_coefficients: set.coefficients.len(),
             params_used: Cow::Owned(set.params_used()),
             scratch,

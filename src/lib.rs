@@ -22,5 +22,5 @@ pub mod reference;
 pub mod scene;
 pub mod scenes;
 
-pub use compiled::{BeamSpec, Kernels};
+pub use compiled::{BeamSpec, FrameModel, Kernels};
 pub use evaluated::TapeKernels;

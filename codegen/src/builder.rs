@@ -90,6 +90,14 @@ impl KernelConfig {
         self
     }
 
+    /// Whether `ā ≡ 0` (frame origin at rest or moving uniformly, no
+    /// gravity): the terms in `ā` are left out, and the runtime refuses the
+    /// kernels in a scene where `ā` can be non-zero.
+    pub fn zero_frame_acceleration(mut self, on: bool) -> Self {
+        self.zero_frame_acceleration = on;
+        self
+    }
+
     /// The kernel model, with relative shape paths resolved against `base`.
     pub fn model(&self, base: &Path) -> Result<KernelModel, Error> {
         let shape = resolve_shape(&self.shape, base)?;
@@ -158,6 +166,12 @@ impl BodyConfig {
     /// Whether the body's frame moves freely.
     pub fn free_frame(mut self, on: bool) -> Self {
         self.kernels.free_frame = on;
+        self
+    }
+
+    /// Whether `ā ≡ 0` ([`KernelConfig::zero_frame_acceleration`]).
+    pub fn zero_frame_acceleration(mut self, on: bool) -> Self {
+        self.kernels.zero_frame_acceleration = on;
         self
     }
 }

@@ -322,13 +322,14 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
     writeln!(s, "#[allow(clippy::all, clippy::pedantic, unused_variables)]\nimpl {rt}::ElementKernels for {kt} {{").unwrap();
     writeln!(
         s,
-        "fn info(&self) -> &{rt}::KernelInfo {{ const INFO: {rt}::KernelInfo = {rt}::KernelInfo {{ shape: ::std::borrow::Cow::Borrowed({:?}), dim: {}, scene_dim: {}, n_local: {n}, coordinates: ::std::borrow::Cow::Borrowed(&[{coords}]), formalism: {rt}::spec::Formalism::{:?}, stiffening: {rt}::spec::Stiffening::{:?}, free_frame: {}, n_coefficients: {nc}, params_used: ::std::borrow::Cow::Borrowed(&[{params}]), scratch: 0 }}; &INFO }}",
+        "fn info(&self) -> &{rt}::KernelInfo {{ const INFO: {rt}::KernelInfo = {rt}::KernelInfo {{ shape: ::std::borrow::Cow::Borrowed({:?}), dim: {}, scene_dim: {}, n_local: {n}, coordinates: ::std::borrow::Cow::Borrowed(&[{coords}]), formalism: {rt}::spec::Formalism::{:?}, stiffening: {rt}::spec::Stiffening::{:?}, free_frame: {}, zero_frame_acceleration: {}, n_coefficients: {nc}, params_used: ::std::borrow::Cow::Borrowed(&[{params}]), scratch: 0 }}; &INFO }}",
         comment_text(&m.shape.name),
         m.shape.dimension,
         m.scene_dim,
         m.formalism,
         m.stiffening,
-        m.free_frame
+        m.free_frame,
+        m.zero_frame_acceleration
     )
     .unwrap();
 

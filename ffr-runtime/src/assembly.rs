@@ -173,6 +173,22 @@ impl<'s, B: Body> Assembly<'s, B> {
             let o = b.offset;
             let nfr = b.d + b.n_theta;
             let frame_free = (o..o + nfr).any(|c| presc[c].is_none());
+            if lay.zero_frame_acceleration {
+                let held = (o..o + b.d)
+                    .all(|c| presc[c].is_some_and(|k| sys.prescribed[k].1.is_uniform()));
+                if sys.gravity != Vector3::zeros() || !held {
+                    return Err(Error::InvalidInput(format!(
+                        "body `{}` ({}) was generated for a frame origin without acceleration and no gravity (ā ≡ 0), but {}: generate it without `zero_frame_acceleration`",
+                        b.name,
+                        lay.description,
+                        if sys.gravity != Vector3::zeros() {
+                            "the scene has gravity"
+                        } else {
+                            "its frame origin is not held by constant or uniform prescribed coordinates"
+                        }
+                    )));
+                }
+            }
             if frame_free && b.nf > 0 && !lay.free_frame {
                 return Err(Error::InvalidInput(format!(
                     "body `{}` ({}) was generated for prescribed frame motion, but its frame coordinates are not all prescribed: generate it with a free frame",

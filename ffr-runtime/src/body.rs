@@ -107,6 +107,9 @@ pub struct BodyLayout {
     /// Whether the reference rows (`f_r`, `f_θ`) and frame derivatives can
     /// be evaluated (otherwise the frame motion must be prescribed).
     pub free_frame: bool,
+    /// Whether the body ignores `ā` (generated for `ā ≡ 0`: no gravity, the
+    /// frame origin held at rest).
+    pub zero_frame_acceleration: bool,
     /// A label for each elastic coordinate (`kind_node`, e.g. `uy_3`).
     pub labels: Vec<String>,
     /// The undeformed axis length of a beam body (markers `x = …` must lie

@@ -6,7 +6,11 @@ use std::sync::Arc;
 
 /// A prescribed function of time returning `[f, ḟ, f̈]`.
 #[derive(Clone)]
-pub struct Driver(Arc<dyn Fn(f64) -> [f64; 3] + Send + Sync>);
+pub struct Driver {
+    f: Arc<dyn Fn(f64) -> [f64; 3] + Send + Sync>,
+    /// Known to have `f̈ ≡ 0` (constant or linear).
+    uniform: bool,
+}
 
 impl fmt::Debug for Driver {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -17,15 +21,29 @@ impl fmt::Debug for Driver {
 impl Driver {
     /// From a closure returning `[f(t), ḟ(t), f̈(t)]`.
     pub fn new(f: impl Fn(f64) -> [f64; 3] + Send + Sync + 'static) -> Self {
-        Self(Arc::new(f))
+        Self {
+            f: Arc::new(f),
+            uniform: false,
+        }
     }
     /// `f(t) = c`.
     pub fn constant(c: f64) -> Self {
-        Self::new(move |_| [c, 0.0, 0.0])
+        Self {
+            uniform: true,
+            ..Self::new(move |_| [c, 0.0, 0.0])
+        }
     }
     /// `f(t) = f0 + rate · t`.
     pub fn linear(f0: f64, rate: f64) -> Self {
-        Self::new(move |t| [f0 + rate * t, rate, 0.0])
+        Self {
+            uniform: true,
+            ..Self::new(move |t| [f0 + rate * t, rate, 0.0])
+        }
+    }
+    /// Whether `f̈ ≡ 0` is known (built by [`Driver::constant`] or
+    /// [`Driver::linear`]).
+    pub fn is_uniform(&self) -> bool {
+        self.uniform
     }
     /// The Kane–Ryan–Banerjee spin-up angle:
     /// `θ = (ω_s/T)(t²/2 + (T/2π)²(cos(2πt/T) − 1))` for `t < T`, `ω_s (t − T/2)` after.
@@ -58,12 +76,12 @@ impl Driver {
     }
     /// `[f(t), ḟ(t), f̈(t)]`.
     pub fn eval(&self, t: f64) -> [f64; 3] {
-        (self.0)(t)
+        (self.f)(t)
     }
     /// `g([f, ḟ, f̈])`: a new driver from this one's value and derivatives
     /// (the caller supplies the chain rule).
     pub fn map(&self, g: impl Fn([f64; 3]) -> [f64; 3] + Send + Sync + 'static) -> Self {
-        let f = self.0.clone();
+        let f = self.f.clone();
         Self::new(move |t| g(f(t)))
     }
 }

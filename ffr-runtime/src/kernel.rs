@@ -39,6 +39,10 @@ pub struct KernelInfo {
     /// Whether the reference rows (`residual`, `tangent`) exist: without
     /// them only a body whose frame motion is prescribed can use the kernels.
     pub free_frame: bool,
+    /// Whether the kernels were generated for `ā ≡ 0` (frame origin at rest
+    /// or moving uniformly, no gravity): they ignore `ā`, so the system
+    /// refuses them where `ā` can be non-zero.
+    pub zero_frame_acceleration: bool,
     /// Length of the coefficient array.
     pub n_coefficients: usize,
     /// Parameters the kernels read (besides the derived element length).

@@ -80,6 +80,7 @@ impl<K: ElementKernels> KernelBody<K> {
             nf: mesh.nf(),
             half_bandwidth: mesh.half_bandwidth(),
             free_frame: info.free_frame,
+            zero_frame_acceleration: info.zero_frame_acceleration,
             labels: mesh.dofs().iter().map(|d| d.to_string()).collect(),
             length: Some(params.length),
             description: format!(

@@ -71,6 +71,7 @@ impl RigidBody {
                 nf: 0,
                 half_bandwidth: 0,
                 free_frame: true,
+                zero_frame_acceleration: false,
                 labels: Vec::new(),
                 length: None,
                 description: format!("rigid body, m = {mass} kg"),

@@ -168,7 +168,10 @@ impl<B: Body> System<B> {
                 lay.description
             )));
         }
-        if lay.nf > 0 && lay.scene_dim != self.dim {
+        // Kernels for a spatial scene are general: they also serve a planar
+        // one (the out-of-plane frame motion is zero); planar-scene kernels
+        // leave out the out-of-plane terms and cannot serve a spatial scene.
+        if lay.nf > 0 && lay.scene_dim < self.dim {
             return Err(Error::InvalidInput(format!(
                 "body `{name}` ({}) was generated for a {} scene, but this scene is {}: generate it with scene dimension {}",
                 lay.description,

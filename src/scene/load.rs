@@ -130,7 +130,8 @@ impl KernelProvider for DefaultKernels {
     ) -> Result<(Box<dyn ElementKernels>, &'static str), Box<dyn std::error::Error>> {
         let k: Kernels = spec.beam.kernels()?;
         if let Kernels::Compiled(_) = k {
-            return Ok((Box::new(k), "compiled"));
+            let path = k.path();
+            return Ok((Box::new(k), path));
         }
         let shape = crate::codegen::Shape::resolve(&spec.beam.shape, None)?;
         let m = &spec.model;
@@ -142,10 +143,9 @@ impl KernelProvider for DefaultKernels {
             free_frame: m.free_frame,
             zero_frame_acceleration: m.zero_frame_acceleration,
         };
-        Ok((
-            Box::new(crate::evaluated::TapeKernels::new(&model)?),
-            "tape",
-        ))
+        let k = Kernels::Tape(Box::new(crate::evaluated::TapeKernels::new(&model)?));
+        let path = k.path();
+        Ok((Box::new(k), path))
     }
 }
 
@@ -658,6 +658,10 @@ fn build(
                 stiffening,
                 scene_dim: Some(dim),
                 params,
+                frame: crate::compiled::FrameModel::from_flags(
+                    model.free_frame,
+                    model.zero_frame_acceleration,
+                ),
                 force_tape: false,
             };
             let _ = fold;

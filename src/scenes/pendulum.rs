@@ -86,6 +86,7 @@ pub fn beam_spec(beam: Beam, elements: usize, reference: Reference, params: Para
         stiffening: Stiffening::Off,
         scene_dim: None,
         params,
+        frame: Default::default(),
         force_tape: false,
     }
 }

@@ -514,6 +514,7 @@ pub fn beam_rod(elements: usize) -> BeamSpec {
         stiffening: Stiffening::Off,
         scene_dim: None,
         params: ROD,
+        frame: Default::default(),
         force_tape: false,
     }
 }
@@ -699,6 +700,7 @@ impl SimeonRod {
             nf: 4,
             half_bandwidth: 3,
             free_frame: true,
+            zero_frame_acceleration: false,
             labels: ["uy_1", "mode2", "ux_1", "ux_2"].map(String::from).to_vec(),
             length: Some(l),
             description: format!(

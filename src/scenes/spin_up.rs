@@ -8,7 +8,7 @@
 //! prescribed as the rotation `θ(t)` about global z. In both the frame motion
 //! is prescribed, so the body runs its elastic kernels only.
 
-use crate::compiled::{BeamSpec, Kernels};
+use crate::compiled::{BeamSpec, FrameModel, Kernels};
 use crate::runtime::spec::{Formalism, Params, Reference, Stiffening};
 use crate::runtime::{
     Driver, Error as RtError, GeneralizedAlpha, Integrator, KernelBody, Pose, System,
@@ -51,6 +51,10 @@ pub struct SpinUp {
     pub spatial: bool,
     /// Beam parameters.
     pub params: Params,
+    /// Run the general body (kernels for a spatial scene and a free frame)
+    /// instead of the one specialized for this scene (planar if planar,
+    /// prescribed hub at rest, no gravity): comparisons.
+    pub general: bool,
     /// Run on tapes instead of the compiled kernels (comparisons).
     pub force_tape: bool,
 }
@@ -70,6 +74,7 @@ impl SpinUp {
             formalism: Formalism::Consistent,
             spatial: false,
             params: KRB,
+            general: false,
             force_tape: false,
         }
     }
@@ -82,8 +87,13 @@ impl SpinUp {
             reference: Reference::Clamped,
             formalism: self.formalism,
             stiffening: self.stiffening,
-            scene_dim: None,
+            scene_dim: self.general.then_some(3),
             params: self.params,
+            frame: if self.general {
+                FrameModel::Free
+            } else {
+                FrameModel::PrescribedAtRest
+            },
             force_tape: self.force_tape,
         }
     }
@@ -279,6 +289,7 @@ pub fn joint_driven_system(
     }
     let mut spec = cfg.beam();
     spec.scene_dim = Some(3);
+    spec.frame = FrameModel::Free;
     let body = spec.body()?;
     let probe = spec.body()?;
     let mut sys = System::spatial();
