@@ -17,6 +17,7 @@ fn kernels(shape: &str, scene_dim: usize, formalism: Formalism, stiffening: Stif
         stiffening,
         scene_dim,
         free_frame: true,
+        zero_frame_acceleration: false,
     })
     .unwrap();
     let name = format!(
@@ -59,6 +60,27 @@ fn beam3_spatial_fourth_order() {
         3,
         Formalism::Consistent,
         Stiffening::FourthOrder
+    ));
+}
+
+/// Kernels for a frame whose motion is prescribed with its origin at rest
+/// and no gravity: no `residual`/`tangent` (reference rows), no `ā` terms
+/// (the header says what was left out and why).
+#[test]
+fn beam2_planar_prescribed_at_rest() {
+    let set = generate_kernels(&KernelModel {
+        shape: Shape::resolve("beam2", None).unwrap(),
+        formalism: Formalism::Consistent,
+        stiffening: Stiffening::FourthOrder,
+        scene_dim: 2,
+        free_frame: false,
+        zero_frame_acceleration: true,
+    })
+    .unwrap();
+    insta::assert_snapshot!(emit_kernels_file(
+        &set,
+        "Beam2PlanarPrescribed",
+        "::ffr_runtime"
     ));
 }
 
