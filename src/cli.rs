@@ -390,8 +390,13 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
         }
     }
     println!(
-        "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices, wall time {:.3} s",
-        r.steps, args.dt, r.newton_iterations, r.jacobians, r.wall
+        "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices{}, wall time {:.3} s",
+        r.steps,
+        args.dt,
+        r.newton_iterations,
+        r.jacobians,
+        retries(r.restarts, r.splits),
+        r.wall
     );
     println!("wrote {} and {}", csv.display(), svg.display());
     if let Some(d) = &r.diverged {
@@ -455,8 +460,13 @@ pub fn run_scene(
         }
     }
     println!(
-        "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices, wall time {:.3} s",
-        r.steps, scene.dt, r.newton_iterations, r.jacobians, r.wall
+        "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices{}, wall time {:.3} s",
+        r.steps,
+        scene.dt,
+        r.newton_iterations,
+        r.jacobians,
+        retries(r.restarts, r.splits),
+        r.wall
     );
     println!("wrote {} and {}", csv.display(), svg.display());
     if let Some(f) = &r.failed {
@@ -475,6 +485,15 @@ pub fn run_scene(
         return Err(format!("output `{n}` is not finite: the run is not valid").into());
     }
     Ok(r)
+}
+
+/// `, N steps restarted from rest, M halved` when there were any.
+fn retries(restarts: usize, splits: usize) -> String {
+    match (restarts, splits) {
+        (0, 0) => String::new(),
+        (r, 0) => format!(", {r} steps restarted from rest"),
+        (r, s) => format!(", {r} steps restarted from rest, {s} halved"),
+    }
 }
 
 /// Run a parsed command line.

@@ -191,11 +191,34 @@ impl Entry {
             Entry::Scene { name, .. } => name,
         }
     }
-    fn shape(&self) -> &str {
+    /// The files the entry is generated from, resolved against `base`: a
+    /// shape file, or a scene file and the shape files it names (as far as
+    /// the scene file can be read; a file that cannot is still listed, so
+    /// that fixing it reruns the build).
+    fn inputs(&self, base: &Path) -> Vec<PathBuf> {
+        let shape_file = |s: &str, dir: &Path| {
+            (Shape::builtin(s).is_none() && looks_like_path(s)).then(|| dir.join(s))
+        };
         match self {
-            Entry::Body(b) => &b.kernels.shape,
-            Entry::Kernels(k) => &k.shape,
-            Entry::Scene { path, .. } => path,
+            Entry::Body(BodyConfig { kernels: k, .. }) | Entry::Kernels(k) => {
+                shape_file(&k.shape, base).into_iter().collect()
+            }
+            Entry::Scene { path, .. } => {
+                let file = base.join(path);
+                let dir = file.parent().map(Path::to_path_buf).unwrap_or_default();
+                let mut out = vec![file.clone()];
+                if let Ok(raw) =
+                    crate::scene::read(&file).and_then(|text| crate::scene::parse(&text, path))
+                {
+                    out.extend(
+                        raw.bodies
+                            .values()
+                            .filter_map(|b| b.shape.as_ref())
+                            .filter_map(|s| shape_file(s.get_ref(), &dir)),
+                    );
+                }
+                out
+            }
         }
     }
 }
@@ -247,8 +270,9 @@ pub struct GeneratedFile {
     pub file_name: String,
     /// The formatted Rust source.
     pub contents: String,
-    /// The shape file the code was generated from (`None` for a built-in shape).
-    pub shape_file: Option<PathBuf>,
+    /// The files the code was generated from: its shape file (none for a
+    /// built-in shape), or a scene file and the shape files it names.
+    pub inputs: Vec<PathBuf>,
 }
 
 impl Builder {
@@ -353,10 +377,9 @@ impl Builder {
                 )));
             }
             seen.push((name, type_name.clone()));
-            let (contents, shape_file) = match entry {
+            let contents = match entry {
                 Entry::Body(b) => {
                     let model = b.kernels.model(&base)?;
-                    let shape_file = model.shape.path.clone();
                     let spec = BodySpec::new(model.shape.clone(), b.elements, b.reference)?
                         .with_formalism(b.kernels.formalism);
                     let set = generate_kernels(&model)?;
@@ -366,34 +389,27 @@ impl Builder {
                         define_struct: true,
                         runtime_path: self.runtime_path.clone(),
                     };
-                    (emit_body_file(&set, &spec, &opts), shape_file)
+                    emit_body_file(&set, &spec, &opts)
                 }
                 Entry::Kernels(k) => {
                     let model = k.model(&base)?;
-                    let shape_file = model.shape.path.clone();
                     let set = generate_kernels(&model)?;
                     check_literals(&set)?;
-                    (
-                        emit_kernels_file(&set, &type_name, &self.runtime_path),
-                        shape_file,
-                    )
+                    emit_kernels_file(&set, &type_name, &self.runtime_path)
                 }
-                Entry::Scene { path, .. } => (
-                    crate::emit::emit_scene_file(
-                        &base.join(path),
-                        path,
-                        &format!("{type_name}Scene"),
-                        &self.runtime_path,
-                    )?,
-                    Some(base.join(path)),
-                ),
+                Entry::Scene { path, .. } => crate::emit::emit_scene_file(
+                    &base.join(path),
+                    path,
+                    &format!("{type_name}Scene"),
+                    &self.runtime_path,
+                )?,
             };
             files.push(GeneratedFile {
                 name: name.to_string(),
                 type_name,
                 file_name: format!("{name}.rs"),
                 contents,
-                shape_file,
+                inputs: entry.inputs(&base),
             });
         }
         Ok(files)
@@ -434,17 +450,16 @@ impl Builder {
             .collect()
     }
 
-    /// `cargo:rerun-if-changed=…` for each entry whose shape is a file.
+    /// `cargo:rerun-if-changed=…` for every input file of every entry.
     fn rerun_lines(&self) -> Vec<String> {
         let base = self.base_dir();
-        let mut lines: Vec<String> = self
-            .entries
-            .iter()
-            .map(Entry::shape)
-            .filter(|s| Shape::builtin(s).is_none() && looks_like_path(s))
-            .map(|s| format!("cargo:rerun-if-changed={}", base.join(s).display()))
-            .collect();
-        lines.dedup();
+        let mut lines: Vec<String> = Vec::new();
+        for f in self.entries.iter().flat_map(|e| e.inputs(&base)) {
+            let line = format!("cargo:rerun-if-changed={}", f.display());
+            if !lines.contains(&line) {
+                lines.push(line);
+            }
+        }
         lines
     }
 }
@@ -641,10 +656,8 @@ y = ["0", "1 - xi", "0", "xi"]
         let rendered = b.render().unwrap();
         assert_eq!(rendered[0].contents, arm);
         assert_eq!(rendered[1].type_name, "MyBar");
-        assert_eq!(
-            rendered[1].shape_file.as_deref(),
-            Some(dir.join("shapes/bar.toml").as_path())
-        );
+        assert_eq!(rendered[1].inputs, [dir.join("shapes/bar.toml")]);
+        assert!(rendered[0].inputs.is_empty());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -714,11 +714,7 @@ pub fn emit_scene_file(
     .unwrap();
     let mut arms = String::new();
     for m in &models {
-        let shape = if crate::shape::Shape::builtin(&m.shape).is_some() {
-            crate::builder::resolve_shape(&m.shape, &dir)?
-        } else {
-            crate::builder::resolve_shape(&m.shape, &dir)?
-        };
+        let shape = crate::builder::resolve_shape(&m.shape, &dir)?;
         let model = crate::eom::KernelModel {
             shape,
             formalism: m.formalism,

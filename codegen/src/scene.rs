@@ -121,13 +121,53 @@ pub struct RawProfile {
     pub phase: Option<Spanned<f64>>,
 }
 
+/// A motor's target: an angle (rad) or a profile table.
+#[derive(Debug)]
+pub enum RawTarget {
+    /// A constant angle.
+    Angle(f64),
+    /// A prescribed angle profile (`{ angle = "harmonic", … }`).
+    Profile(RawProfile),
+}
+
+impl<'de> Deserialize<'de> for RawTarget {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = RawTarget;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an angle (rad) or a profile table such as { angle = \"harmonic\", amplitude = 0.3, frequency = 1.0 }")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<RawTarget, E> {
+                Ok(RawTarget::Angle(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<RawTarget, E> {
+                Ok(RawTarget::Angle(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<RawTarget, E> {
+                Ok(RawTarget::Angle(v as f64))
+            }
+            // The profile's fields are read by the TOML deserializer itself,
+            // so they keep their spans.
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<RawTarget, A::Error> {
+                RawProfile::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(RawTarget::Profile)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
 /// `motor = { torque = 0.5 }` or `{ target = 1.0, kp = 10.0, kd = 1.0 }`
 /// (or a target profile, `target = { angle = "constant-rate", omega = 1.0 }`).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawMotor {
     pub torque: Option<Spanned<f64>>,
-    pub target: Option<Spanned<toml::Value>>,
+    pub target: Option<Spanned<RawTarget>>,
     pub kp: Option<Spanned<f64>>,
     pub kd: Option<Spanned<f64>>,
 }

@@ -38,6 +38,21 @@ pub enum Error {
         /// The step size.
         dt: f64,
     },
+    /// A generalized-α step failed from both Newton starts and after
+    /// halving it [`StepFailed::halvings`] times.
+    #[error("step {step} at t = {t:.6} s failed even when restarted from rest and halved {halvings} times (to dt = {dt_min:e} s; there: {why}): look for a load on a coordinate with almost no inertia (e.g. a motor torque on a flexible body's frame without a hub body), or try a smaller step or lower rho_inf", why = cause.short())]
+    StepFailed {
+        /// Step index (0-based: the step starting at `t`).
+        step: usize,
+        /// Time at the start of the step.
+        t: f64,
+        /// How often the step was halved.
+        halvings: u32,
+        /// The shortest step tried.
+        dt_min: f64,
+        /// The failure of the shortest step.
+        cause: Box<Error>,
+    },
     /// A NaN or infinity appeared in the state.
     #[error("non-finite {what} at step {step}, t = {t:.6} s: the solution diverged; try a smaller step or lower rho_inf")]
     NonFinite {
@@ -65,6 +80,24 @@ pub enum Error {
         /// Remaining `‖Φ‖`.
         violation: f64,
     },
+}
+
+impl Error {
+    /// What went wrong in a few words (no advice).
+    pub fn short(&self) -> String {
+        match self {
+            Error::NoConvergence {
+                residual,
+                iterations,
+                ..
+            } => format!(
+                "no convergence, residual {residual:.3e} after {iterations} Newton iterations"
+            ),
+            Error::NonFinite { what, .. } => format!("non-finite {what}"),
+            Error::Singular { what, detail, .. } => format!("singular {what} ({detail})"),
+            other => other.to_string(),
+        }
+    }
 }
 
 /// Result with this crate's [`Error`].

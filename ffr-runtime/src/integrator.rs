@@ -143,6 +143,12 @@ pub struct Summary {
     pub newton_iterations: usize,
     /// Iteration-matrix evaluations (and factorizations).
     pub jacobians: usize,
+    /// Generalized-α steps whose Newton iteration failed from the
+    /// extrapolating predictor and was started again from rest.
+    pub restarts: usize,
+    /// Generalized-α steps that failed from both starts and were done in two
+    /// halves (each half counts once; halves may split again).
+    pub splits: usize,
 }
 
 /// Preallocated vectors of the linear solves.
@@ -259,6 +265,8 @@ impl<B: Body> System<B> {
             stopped: false,
             newton_iterations: 0,
             jacobians: 0,
+            restarts: 0,
+            splits: 0,
         };
         let mut view = StepView {
             step: 0,
@@ -276,9 +284,7 @@ impl<B: Body> System<B> {
             let h = if h < 1e-12 * dt { dt } else { h };
             let iters = match integrator {
                 Integrator::GeneralizedAlpha(g) => {
-                    let (it, jacs) = ga_step(&mut asm, g, &mut state, &mut w, h, step)?;
-                    summary.jacobians += jacs;
-                    it
+                    ga_interval(&mut asm, g, &mut state, &mut w, h, step, 0, &mut summary)?
                 }
                 Integrator::Rk4(r) => {
                     rk4_step(&mut asm, r, &mut state, &mut w, h, step)?;
@@ -483,6 +489,86 @@ fn coord_scale(g: &GeneralizedAlpha, w: &Work, c: usize, k: usize, bp: f64, all_
         + f64::MIN_POSITIVE
 }
 
+/// How a generalized-α step starts its Newton iteration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Predictor {
+    /// `q̈` extrapolated linearly from the last two steps.
+    Extrapolate,
+    /// `q̈ = 0` (free coordinates).
+    Rest,
+}
+
+/// Steps are split in halves at most this many times (to `h / 2⁸`).
+const MAX_SPLITS: u32 = 8;
+
+/// Whether a failed step may succeed from another start or with a shorter
+/// step (Newton did not converge, or wandered into a non-finite or singular
+/// state), as opposed to an error of the model.
+fn retry_may_help(e: &Error) -> bool {
+    matches!(
+        e,
+        Error::NoConvergence { .. }
+            | Error::NonFinite { .. }
+            | Error::Singular {
+                what: "generalized-α iteration matrix",
+                ..
+            }
+    )
+}
+
+/// One generalized-α step of length `h`, made robust: if Newton fails from
+/// the extrapolating predictor it starts again from rest, and if that fails
+/// too the interval is done in two halves (recursively, at most
+/// [`MAX_SPLITS`] times). A step that converges at once is exactly
+/// [`ga_step`]; `stats` counts the restarts and splits.
+fn ga_interval<B: Body>(
+    asm: &mut Assembly<B>,
+    g: &GeneralizedAlpha,
+    s: &mut State,
+    w: &mut Work,
+    h: f64,
+    step: usize,
+    depth: u32,
+    stats: &mut Summary,
+) -> Result<usize> {
+    let first = match ga_step(asm, g, s, w, h, step, Predictor::Extrapolate) {
+        Ok((it, jacs)) => {
+            stats.jacobians += jacs;
+            return Ok(it);
+        }
+        Err(e) if retry_may_help(&e) => e,
+        Err(e) => return Err(e),
+    };
+    stats.restarts += 1;
+    match ga_step(asm, g, s, w, h, step, Predictor::Rest) {
+        Ok((it, jacs)) => {
+            stats.jacobians += jacs;
+            return Ok(it);
+        }
+        Err(e) if retry_may_help(&e) => {}
+        Err(e) => return Err(e),
+    }
+    if depth >= MAX_SPLITS {
+        return Err(first);
+    }
+    stats.splits += 1;
+    let (t0, t_end) = (s.t, s.t + h);
+    let halves = ga_interval(asm, g, s, w, 0.5 * h, step, depth + 1, stats).and_then(|a| {
+        ga_interval(asm, g, s, w, t_end - s.t, step, depth + 1, stats).map(|b| a + b)
+    });
+    match halves {
+        Err(e) if depth == 0 && retry_may_help(&e) => Err(Error::StepFailed {
+            step,
+            t: t0,
+            halvings: MAX_SPLITS,
+            dt_min: h / f64::from(1u32 << MAX_SPLITS),
+            cause: Box::new(e),
+        }),
+        other => other,
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
 fn ga_step<B: Body>(
     asm: &mut Assembly<B>,
     g: &GeneralizedAlpha,
@@ -490,6 +576,7 @@ fn ga_step<B: Body>(
     w: &mut Work,
     h: f64,
     step: usize,
+    predictor: Predictor,
 ) -> Result<(usize, usize)> {
     let (n, m) = (asm.n, asm.m);
     let (am, af, gamma, beta) = g.coefficients();
@@ -498,14 +585,16 @@ fn ga_step<B: Body>(
     let t0 = s.t;
     let t1 = t0 + h;
     // Predictor: q̈_{n+1} extrapolated linearly from the last two steps
-    // (constant on the first), with q and q̇ from the generalized-α relations
-    // (prescribed coordinates exact). Any start satisfying the relations
-    // works; this one is off by O(h²) in q̈ instead of O(1).
-    let extrapolate = w.prev_h > 0.0;
-    let ratio = if extrapolate { h / w.prev_h } else { 0.0 };
+    // (constant on the first), or zero, with q and q̇ from the
+    // generalized-α relations (prescribed coordinates exact). Any start
+    // satisfying the relations works; extrapolation is off by O(h²) in q̈
+    // on smooth motion, zero is the safer start where stiff modes ring.
+    let ratio = if w.prev_h > 0.0 { h / w.prev_h } else { 0.0 };
     for c in 0..n {
-        let qdd = s.a[c] + ratio * (s.a[c] - w.prev_a[c]);
-        w.prev_a[c] = s.a[c];
+        let qdd = match predictor {
+            Predictor::Extrapolate => s.a[c] + ratio * (s.a[c] - w.prev_a[c]),
+            Predictor::Rest => 0.0,
+        };
         let a_new = ((1.0 - af) * qdd + af * s.a[c] - am * w.acc[c]) / (1.0 - am);
         w.v[c] = s.v[c] + h * (1.0 - gamma) * w.acc[c] + h * gamma * a_new;
         w.q[c] = s.q[c] + h * s.v[c] + h * h * (0.5 - beta) * w.acc[c] + h * h * beta * a_new;
@@ -520,6 +609,7 @@ fn ga_step<B: Body>(
     }
     let mut jacs = 0;
     let mut prev = f64::INFINITY;
+    let mut prev_theta = f64::INFINITY;
     // Smallest update seen in this step (round-off detection).
     let mut least = f64::INFINITY;
     let mut fresh = false;
@@ -610,8 +700,14 @@ fn ga_step<B: Body>(
             err = err.max((bp * w.lin.x[n + k]).abs() / sc);
         }
         // Converged: this update was within tolerance, or the contraction
-        // seen so far says what is left after it is (θ/(1 − θ) · err).
+        // says what is left after it is (θ/(1 − θ) · err). The estimate is
+        // trusted only in Newton's convergent regime: the update is already
+        // small (within 10⁴ of the tolerance) and, after the second
+        // iteration, the one before it contracted too. A first contraction
+        // after wild iterates (err / prev tiny because prev was huge) proves
+        // nothing.
         let theta = err / prev;
+        let estimate_valid = theta < 0.5 && err <= 1e4 && (it == 2 || prev_theta < 0.5);
         // Round-off: after an iteration on a fresh matrix the updates have
         // stopped shrinking (they are the noise of the residual's
         // evaluation), and are within 10⁶ of the tolerance. "Stopped
@@ -620,11 +716,12 @@ fn ga_step<B: Body>(
         // alternate a larger and a smaller noise update forever (each
         // smaller than half the one before it, never below the tolerance).
         let stalled = since_fresh >= 1 && err >= 0.5 * least && err <= 1e6;
-        if err <= 1.0 || (it >= 2 && theta < 0.5 && err * theta / (1.0 - theta) <= 1.0) || stalled {
+        if err <= 1.0 || (estimate_valid && err * theta / (1.0 - theta) <= 1.0) || stalled {
             for c in 0..n {
                 w.acc[c] = (w.a[c] * (1.0 - af) + s.a[c] * af - w.acc[c] * am) / (1.0 - am);
             }
             w.prev_h = h;
+            w.prev_a.copy_from_slice(&s.a);
             s.t = t1;
             s.q.copy_from_slice(&w.q);
             s.v.copy_from_slice(&w.v);
@@ -640,6 +737,7 @@ fn ga_step<B: Body>(
             w.have_jac = false;
         }
         fresh = false;
+        prev_theta = theta;
         prev = err;
         least = least.min(err);
     }

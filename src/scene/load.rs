@@ -5,7 +5,7 @@
 
 use crate::codegen::scene::{
     flex_models, FlexBodyModel, RawBody, RawForce, RawIntegrator, RawMotor, RawOutput, RawProfile,
-    RawScene,
+    RawScene, RawTarget,
 };
 use crate::codegen::Location;
 use crate::compiled::{BeamSpec, Kernels};
@@ -404,12 +404,21 @@ impl Builder<'_> {
 }
 
 fn profile(c: &Ctx, p: &Spanned<RawProfile>, key: &str) -> Result<Driver, SceneError> {
-    let r = p.get_ref();
+    profile_at(c, p.span(), p.get_ref(), key)
+}
+
+/// A profile whose table is at `span`.
+fn profile_at(
+    c: &Ctx,
+    span: std::ops::Range<usize>,
+    r: &RawProfile,
+    key: &str,
+) -> Result<Driver, SceneError> {
     let name = match key {
         "angle" => r.angle.as_ref(),
         _ => r.slide.as_ref(),
     }
-    .ok_or_else(|| c.err(p.span(), format!("the drive needs `{key} = \"…\"`: one of spin-up, constant-rate, constant, harmonic")))?;
+    .ok_or_else(|| c.err(span.clone(), format!("the drive needs `{key} = \"…\"`: one of spin-up, constant-rate, constant, harmonic")))?;
     let need = |v: &Option<Spanned<f64>>, what: &str| -> Result<f64, SceneError> {
         v.as_ref()
             .ok_or_else(|| {
@@ -949,28 +958,14 @@ fn motor(c: &Ctx, m: &Spanned<RawMotor>) -> Result<TorqueLaw, SceneError> {
         }
         (None, Some(target)) => {
             let drv = match target.get_ref() {
-                toml::Value::Float(x) => Driver::constant(*x),
-                toml::Value::Integer(x) => Driver::constant(*x as f64),
-                toml::Value::Table(_) => {
-                    let p: RawProfile =
-                        target
-                            .get_ref()
-                            .clone()
-                            .try_into()
-                            .map_err(|e: toml::de::Error| {
-                                c.err(target.span(), format!("motor `target`: {}", e.message()))
-                            })?;
-                    profile(c, &Spanned::new(target.span(), p), "angle")?
-                }
-                other => {
+                RawTarget::Angle(x) if x.is_finite() => Driver::constant(*x),
+                RawTarget::Angle(x) => {
                     return Err(c.err(
                         target.span(),
-                        format!(
-                            "motor `target` is an angle (rad) or a profile table, found a {}",
-                            other.type_str()
-                        ),
+                        format!("motor `target` must be a finite angle, found {x}"),
                     ))
                 }
+                RawTarget::Profile(p) => profile_at(c, target.span(), p, "angle")?,
             };
             let kp =
                 r.kp.as_ref()

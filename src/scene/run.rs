@@ -19,6 +19,10 @@ pub struct SceneRun {
     pub newton_iterations: usize,
     /// Iteration-matrix factorizations.
     pub jacobians: usize,
+    /// Steps whose Newton iteration was started again from rest.
+    pub restarts: usize,
+    /// Steps done in halves.
+    pub splits: usize,
     /// Wall time of the simulation (s).
     pub wall: f64,
     /// Why the run stopped early (an integrator failure), if it did.
@@ -114,12 +118,15 @@ pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
             out.steps = s.steps;
             out.newton_iterations = s.newton_iterations;
             out.jacobians = s.jacobians;
+            out.restarts = s.restarts;
+            out.splits = s.splits;
         }
         Err(e) => match e {
             crate::runtime::Error::NoConvergence { .. }
             | crate::runtime::Error::NonFinite { .. }
             | crate::runtime::Error::Unstable { .. }
-            | crate::runtime::Error::Singular { .. } => out.failed = Some(e.to_string()),
+            | crate::runtime::Error::Singular { .. }
+            | crate::runtime::Error::StepFailed { .. } => out.failed = Some(e.to_string()),
             other => return Err(other),
         },
     }

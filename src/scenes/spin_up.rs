@@ -132,6 +132,10 @@ pub struct SpinUpResult {
     pub newton_iterations: usize,
     /// Iteration-matrix factorizations.
     pub jacobians: usize,
+    /// Steps whose Newton iteration was started again from rest.
+    pub restarts: usize,
+    /// Steps done in halves.
+    pub splits: usize,
     /// Wall time of the simulation alone (s).
     pub wall: f64,
     /// `compiled` or `tape`.
@@ -250,12 +254,15 @@ pub fn run(cfg: &SpinUp) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
             res.steps = s.steps;
             res.newton_iterations = s.newton_iterations;
             res.jacobians = s.jacobians;
+            res.restarts = s.restarts;
+            res.splits = s.splits;
         }
         Err(
             e @ (RtError::NoConvergence { .. }
             | RtError::NonFinite { .. }
             | RtError::Unstable { .. }
-            | RtError::Singular { .. }),
+            | RtError::Singular { .. }
+            | RtError::StepFailed { .. }),
         ) => {
             res.diverged = Some(Divergence {
                 t: res.t.last().copied().unwrap_or(0.0),
