@@ -17,6 +17,7 @@ fn kernels(shape: &str, scene_dim: usize, formalism: Formalism, stiffening: Stif
         stiffening,
         scene_dim,
         free_frame: true,
+        zero_frame_acceleration: false,
     })
     .unwrap();
     let name = format!(

@@ -29,6 +29,7 @@ pub fn kernel_set(
         stiffening,
         scene_dim,
         free_frame,
+        zero_frame_acceleration: false,
     })
     .unwrap()
 }
