@@ -121,16 +121,18 @@ fn param_meaning(p: Param) -> &'static str {
     }
 }
 
-/// Check parameter values before they are used ([`Params::validate_only`]:
-/// every value finite; `length`, `rho`, `area`, `e` strictly positive;
-/// `iy`, `iz`, `g`, `j` not negative, and strictly positive when the body
-/// uses them, `used` e.g. [`KernelSet::params_used`]). The error names the
-/// parameter.
+/// Check parameter values before they are used: every value finite;
+/// `length`, `rho`, `area`, `e` strictly positive; `iy`, `iz`, `g`, `j` not
+/// negative ([`Params::validate`]), and strictly positive when the body uses
+/// them ([`Params::validate_only`], `used` e.g. [`KernelSet::params_used`];
+/// `&[]` checks only the first part). The error names the parameter.
 pub fn check_params(p: &Params, used: &[Param]) -> Result<(), Error> {
-    p.validate_only(used).map_err(|e| Error::Parameter {
-        name: e.param.field().to_string(),
-        message: format!("{} ({})", e.reason(), param_meaning(e.param)),
-    })
+    p.validate()
+        .and_then(|()| p.validate_only(used))
+        .map_err(|e| Error::Parameter {
+            name: e.param.field().to_string(),
+            message: format!("{} ({})", e.reason(), param_meaning(e.param)),
+        })
 }
 
 /// Check every literal of the generated programs: a literal that is not
