@@ -13,9 +13,12 @@
 //! `i32` exponents and seconds of work.
 //!
 //! The checks on results: parameter values that are physically invalid
-//! ([`check_params`]), numbers that are not finite or a mass matrix whose
-//! diagonal is not positive ([`check_invariants`]), and literals of generated
-//! code that are not finite ([`check_literals`]).
+//! ([`check_params`]) and literals of generated code that are not finite
+//! ([`check_literals`]). The generator evaluates nothing in floating point;
+//! numbers that are not finite or a mass matrix whose diagonal is not
+//! positive are checked where a body is evaluated at given parameters (the
+//! runtime refuses coefficients that are not finite, `ffr invariants`
+//! checks every invariant).
 
 use crate::error::Error;
 use crate::kernel::KernelSet;
@@ -73,8 +76,10 @@ pub const MAX_ENTRY_TERMS: usize = 32;
 /// Most terms of all entries of `S` together (`beam3` has 47). The
 /// invariants multiply entries pairwise, so their cost grows with the square
 /// of this number (and with [`MAX_COEFFICIENT_BITS`]): at the limits, the
-/// exact invariants of a spatial shape of 12 coordinates take under a second
-/// in the test profile (and a few seconds with stiffening).
+/// exact invariants of a 2-element body of a spatial shape of 12
+/// coordinates take about half a second in the test profile, all of its
+/// element kernels 2–4 s with or without stiffening (the costliest-shape
+/// tests of `codegen/tests/regressions.rs`).
 pub const MAX_SHAPE_TERMS: usize = 128;
 
 /// Most bits of the numerator and of the denominator of any coefficient of an
@@ -121,16 +126,18 @@ fn param_meaning(p: Param) -> &'static str {
     }
 }
 
-/// Check parameter values before they are used ([`Params::validate_only`]:
-/// every value finite; `length`, `rho`, `area`, `e` strictly positive;
-/// `iy`, `iz`, `g`, `j` not negative, and strictly positive when the body
-/// uses them, `used` e.g. [`KernelSet::params_used`]). The error names the
-/// parameter.
+/// Check parameter values before they are used: every value finite;
+/// `length`, `rho`, `area`, `e` strictly positive; `iy`, `iz`, `g`, `j` not
+/// negative ([`Params::validate`]), and strictly positive when the body uses
+/// them ([`Params::validate_only`], `used` e.g. [`KernelSet::params_used`];
+/// `&[]` checks only the first part). The error names the parameter.
 pub fn check_params(p: &Params, used: &[Param]) -> Result<(), Error> {
-    p.validate_only(used).map_err(|e| Error::Parameter {
-        name: e.param.field().to_string(),
-        message: format!("{} ({})", e.reason(), param_meaning(e.param)),
-    })
+    p.validate()
+        .and_then(|()| p.validate_only(used))
+        .map_err(|e| Error::Parameter {
+            name: e.param.field().to_string(),
+            message: format!("{} ({})", e.reason(), param_meaning(e.param)),
+        })
 }
 
 /// Check every literal of the generated programs: a literal that is not

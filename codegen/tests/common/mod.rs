@@ -8,8 +8,8 @@ use ffr_codegen::eom::OutArr;
 use ffr_codegen::poly::{Param, Poly, Sym};
 use ffr_codegen::program::{Inputs, Program, Tape};
 use ffr_codegen::{
-    generate_kernels, BodySpec, Formalism, KernelModel, KernelSet, Params, Reference, Shape,
-    Stiffening,
+    generate_kernels, BodySpec, ExactInvariants, Formalism, KernelModel, KernelSet, Params,
+    Reference, Shape, Stiffening,
 };
 use ffr_reference as rf;
 use nalgebra::{DMatrix, Matrix3};
@@ -64,8 +64,11 @@ pub fn param_array(p: &Params, l: f64) -> [f64; 9] {
     a
 }
 
-/// The coefficient array of `set` for `params` and element length `l`.
-pub fn coefficients(set: &KernelSet, p: &Params, l: f64) -> Vec<f64> {
+/// The coefficient array of `set` for `params` and element length `l`,
+/// as the coefficient program computes it (not checked: an entry the
+/// program does not set is NaN, a product of parameters beyond `f64` is
+/// infinite or zero).
+pub fn coefficient_values(set: &KernelSet, p: &Params, l: f64) -> Vec<f64> {
     let mut c = vec![f64::NAN; set.coefficients.len()];
     let pa = param_array(p, l);
     Run::new(&set.coefficient_program).run(
@@ -78,7 +81,17 @@ pub fn coefficients(set: &KernelSet, p: &Params, l: f64) -> Vec<f64> {
             c[i] = v;
         },
     );
-    assert!(c.iter().all(|x| x.is_finite()), "a coefficient is not set");
+    c
+}
+
+/// The coefficient array of `set` for `params` and element length `l`,
+/// every entry set and finite.
+pub fn coefficients(set: &KernelSet, p: &Params, l: f64) -> Vec<f64> {
+    let c = coefficient_values(set, p, l);
+    assert!(
+        c.iter().all(|x| x.is_finite()),
+        "a coefficient is not set or not finite"
+    );
     c
 }
 
@@ -210,6 +223,31 @@ pub fn eval_params(p: &Poly, v: &Params) -> f64 {
         .sum()
 }
 
+/// An exact element polynomial (in the parameters, the element length `l`
+/// and the offset `x₀`) evaluated in `f64` term by term: its value and the
+/// sum of the magnitudes of its terms, the scale of the rounding error of
+/// any order of evaluation.
+pub fn eval_element(p: &Poly, v: &Params, l: f64, x0: f64) -> (f64, f64) {
+    let (mut value, mut scale) = (0.0, 0.0);
+    for (m, c) in p.terms() {
+        let t = m
+            .factors()
+            .iter()
+            .fold(ffr_codegen::poly::to_f64(c), |acc, &(s, e)| {
+                let x = match s {
+                    Sym::Param(Param::ElemLength) => l,
+                    Sym::Param(par) => v.get(par).unwrap(),
+                    Sym::X0 => x0,
+                    s => panic!("{s} in an element polynomial of the parameters, l and x0"),
+                };
+                acc * x.powi(e)
+            });
+        value += t;
+        scale += t.abs();
+    }
+    (value, scale)
+}
+
 /// Dense invariants of a body (the theory's names), from any route.
 #[derive(Clone, Debug)]
 pub struct Dense {
@@ -235,6 +273,69 @@ impl Dense {
             m_ff: DMatrix::zeros(nf, nf),
             k_ff: DMatrix::zeros(nf, nf),
         }
+    }
+
+    /// The exact body polynomials (`BodySpec::exact_invariants`) evaluated
+    /// at `p` with [`eval_params`].
+    pub fn from_exact(exact: &ExactInvariants, p: &Params) -> Self {
+        let nf = exact.nf;
+        let ev = |q: &Poly| eval_params(q, p);
+        let mut g = Dense::zeros(nf);
+        g.mass = ev(&exact.mass);
+        for k in 0..3 {
+            g.s_t0[k] = ev(&exact.s_t0[k]);
+            for l in 0..3 {
+                g.theta[(k, l)] = ev(&exact.theta[k][l]);
+                g.s_kl[k][l] = DMatrix::from_fn(nf, nf, |i, j| ev(exact.s_kl[k][l].get(i, j)));
+                g.i_kl[k][l] = DMatrix::from_fn(nf, 1, |i, _| ev(&exact.i_kl[k][l][i]));
+            }
+        }
+        g.s_bar = DMatrix::from_fn(3, nf, |k, i| ev(exact.s_bar.get(k, i)));
+        g.m_ff = DMatrix::from_fn(nf, nf, |i, j| ev(exact.m_ff.get(i, j)));
+        g.k_ff = DMatrix::from_fn(nf, nf, |i, j| ev(exact.k_ff.get(i, j)));
+        g
+    }
+
+    /// Every number with its name as `ffr invariants --json` keys it
+    /// (`mass`, `St0[k]`, `Sbar[k][a]`, `Skl.xy[a][b]`, `Ikl.xy[a]`,
+    /// `theta.xy`, `mff[a][b]`, `Kff[a][b]`), in that order; all three axes.
+    pub fn named(&self) -> Vec<(String, f64)> {
+        const AXES: [&str; 3] = ["x", "y", "z"];
+        let nf = self.m_ff.nrows();
+        let mut v = vec![("mass".to_string(), self.mass)];
+        for k in 0..3 {
+            v.push((format!("St0[{k}]"), self.s_t0[k]));
+        }
+        for k in 0..3 {
+            for a in 0..nf {
+                v.push((format!("Sbar[{k}][{a}]"), self.s_bar[(k, a)]));
+            }
+        }
+        for (k, ak) in AXES.iter().enumerate() {
+            for (l, al) in AXES.iter().enumerate() {
+                let key = format!("{ak}{al}");
+                for a in 0..nf {
+                    for b in 0..nf {
+                        v.push((format!("Skl.{key}[{a}][{b}]"), self.s_kl[k][l][(a, b)]));
+                    }
+                    v.push((format!("Ikl.{key}[{a}]"), self.i_kl[k][l][(a, 0)]));
+                }
+                v.push((format!("theta.{key}"), self.theta[(k, l)]));
+            }
+        }
+        for (name, m) in [("mff", &self.m_ff), ("Kff", &self.k_ff)] {
+            for a in 0..nf {
+                for b in 0..nf {
+                    v.push((format!("{name}[{a}][{b}]"), m[(a, b)]));
+                }
+            }
+        }
+        v
+    }
+
+    /// The first number (in [`Dense::named`] order) that is not finite.
+    pub fn first_not_finite(&self) -> Option<(String, f64)> {
+        self.named().into_iter().find(|(_, x)| !x.is_finite())
     }
 
     pub fn from_reference(r: &rf::RefInvariants) -> Self {
@@ -687,4 +788,35 @@ pub fn col(v: &[f64]) -> DMatrix<f64> {
 
 pub fn scalar(x: f64) -> DMatrix<f64> {
     DMatrix::from_element(1, 1, x)
+}
+
+/// The CPU time of the current thread (Linux), so that a busy machine does
+/// not count against a time limit; elsewhere the wall time since the first
+/// call.
+pub fn thread_cpu_time() -> std::time::Duration {
+    use std::time::{Duration, Instant};
+    #[cfg(target_os = "linux")]
+    {
+        #[repr(C)]
+        struct Timespec {
+            tv_sec: i64,
+            tv_nsec: i64,
+        }
+        extern "C" {
+            fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
+        }
+        const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+        let mut ts = Timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
+        // SAFETY: `ts` is a valid, writable timespec (64-bit Linux layout).
+        if cfg!(target_pointer_width = "64")
+            && unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut ts) } == 0
+        {
+            return Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32);
+        }
+    }
+    static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
+    START.get_or_init(Instant::now).elapsed()
 }
