@@ -17,4 +17,7 @@ fn ffr_bodies() -> ffr_codegen::Builder {
                 .formalism(Formalism::Lumped)
                 .stiffening(Stiffening::FourthOrder),
         )
+        // A whole scene: the specialized kernels of its flexible bodies and
+        // `TwoLinksScene::load()`, which simulates like `ffr run` on the file.
+        .scene("scenes/two_links.toml")
 }

@@ -1,7 +1,8 @@
 //! The same FFR bodies generated two ways: by the `#[ffr::flex_body]`
 //! attribute ([`attr`]) and by a build script with `ffr_codegen::Builder`
 //! ([`built`]). `tests/same_code.rs` checks that both give bit-identical
-//! results.
+//! results. [`scenes`] holds a scene file compiled by the build script,
+//! which simulates bit for bit like `ffr run` on the same file.
 
 /// Bodies from `#[ffr::flex_body]`.
 pub mod attr {
@@ -47,6 +48,12 @@ pub mod attr {
         pub iz: f64,
         pub e: f64,
     }
+}
+
+/// Scenes from `build.rs`: `scenes/two_links.toml` compiled (its bodies'
+/// kernels specialized for the scene, the file embedded).
+pub mod scenes {
+    include!(concat!(env!("OUT_DIR"), "/two_links.rs"));
 }
 
 /// Bodies from `build.rs` (see `ffr_bodies.rs`): each file defines a struct
