@@ -90,8 +90,10 @@ pub struct Assembly<'s, B: Body> {
     pub(crate) mult_class: Vec<u32>,
     /// Class of each coordinate.
     pub(crate) coord_class: Vec<u32>,
-    /// Number of classes.
-    pub(crate) n_classes: usize,
+    /// Per class: the class of the same body whose positions, times the
+    /// factor, also set this class's round-off floor (a beam's elastic
+    /// translations and rotations, linked by its length `L`).
+    pub(crate) class_link: Vec<Option<(u32, f64)>>,
 }
 
 fn v3(x: &[f64]) -> Vector3<f64> {
@@ -168,6 +170,7 @@ impl<'s, B: Body> Assembly<'s, B> {
         let mut bodies = Vec::new();
         let mut coord_class = vec![0u32; n];
         let mut n_classes = 0u32;
+        let mut class_link = Vec::new();
         for b in &sys.bodies {
             let lay = b.body.layout();
             let o = b.offset;
@@ -199,6 +202,12 @@ impl<'s, B: Body> Assembly<'s, B> {
             // translations, elastic rotations.
             let base = n_classes;
             n_classes += 4;
+            match lay.length {
+                Some(l) if l > 0.0 && l.is_finite() && b.nf > 0 => {
+                    class_link.extend([None, None, Some((base + 3, l)), Some((base + 2, 1.0 / l))])
+                }
+                _ => class_link.extend([None; 4]),
+            }
             for k in 0..nfr {
                 coord_class[o + k] = base + u32::from(k >= b.d);
             }
@@ -281,6 +290,7 @@ impl<'s, B: Body> Assembly<'s, B> {
             }
             n_classes += 1;
         }
+        class_link.resize(n_classes as usize, None);
         let shapes: Vec<BlockShape> = blocks
             .iter()
             .zip(&body_border)
@@ -309,7 +319,7 @@ impl<'s, B: Body> Assembly<'s, B> {
             x_border: vec![0.0; n_border as usize],
             mult_class,
             coord_class,
-            n_classes: n_classes as usize,
+            class_link,
         })
     }
 
@@ -1063,9 +1073,10 @@ impl<'s, B: Body> Assembly<'s, B> {
         (p, hh)
     }
 
-    /// Class of each unknown coordinate and multiplier (for convergence).
-    pub(crate) fn classes(&self) -> (&[u32], &[u32], usize) {
-        (&self.coord_class, &self.mult_class, self.n_classes)
+    /// Class of each unknown coordinate and multiplier, and the links
+    /// between classes (for convergence).
+    pub(crate) fn classes(&self) -> (&[u32], &[u32], &[Option<(u32, f64)>]) {
+        (&self.coord_class, &self.mult_class, &self.class_link)
     }
 
     /// Global position of a marker.
