@@ -7,8 +7,10 @@
 //! an acceleration (`β' Δq`), is below `rtol` times that coordinate's
 //! acceleration scale (its own `|q̈|` plus the largest `|q̈|` of its class —
 //! frame translations, frame rotations, elastic translations, elastic
-//! rotations of one body — plus `10⁻⁶` of the largest of all), and likewise
-//! every multiplier update relative to its joint's multipliers. This is
+//! rotations of one body — plus `10⁻⁶` of the largest of all coordinates'),
+//! and likewise every multiplier update relative to its joint's multipliers
+//! (plus `10⁻⁶` of the largest of all multipliers; accelerations and
+//! multipliers are never compared with each other, their ratio is a mass). This is
 //! independent of the step size and of the units, so the answer converges as
 //! `dt` shrinks and meshes refine. Updates below the round-off of the
 //! positions (of the coordinate's class, and for a beam's elastic rotations
@@ -174,6 +176,8 @@ struct Work {
     /// its linked class's, converted by the body length).
     class_qfloor: Vec<f64>,
     class_link: Vec<Option<(u32, f64)>>,
+    /// Classes `0..coord_classes` are coordinates', the rest multipliers'.
+    coord_classes: usize,
     prev_a: Vec<f64>,
     prev_h: f64,
     coord_class: Vec<u32>,
@@ -207,6 +211,7 @@ impl Work {
             class_qmax: vec![0.0; classes],
             class_qfloor: vec![0.0; classes],
             class_link: links.to_vec(),
+            coord_classes: cc.iter().map(|&k| k as usize + 1).max().unwrap_or(0),
             prev_a: vec![0.0; n],
             prev_h: 0.0,
             coord_class: cc.to_vec(),
@@ -612,7 +617,12 @@ fn ga_step<B: Body>(
             w.class_qfloor[k] =
                 w.class_qmax[k] + link.map_or(0.0, |(p, f)| f * w.class_qmax[p as usize]);
         }
-        let all_max = w.class_max.iter().fold(0.0f64, |s, x| s.max(*x));
+        // The largest |q̈| of all coordinates and the largest |λ| of all
+        // multipliers, apart: one is an acceleration, the other a force, and
+        // their ratio is the system's mass.
+        let (coord_classes, mult_classes) = w.class_max.split_at(w.coord_classes);
+        let all_max = coord_classes.iter().fold(0.0f64, |s, x| s.max(*x));
+        let all_lam = mult_classes.iter().fold(0.0f64, |s, x| s.max(*x));
         let mut err = 0.0f64;
         for c in 0..n {
             if asm.is_prescribed(c) {
@@ -624,7 +634,7 @@ fn ga_step<B: Body>(
         for k in 0..m {
             let cl = w.mult_class[k] as usize;
             let l = (w.lam[k] * bp).abs();
-            let sc = g.rtol * (l + w.class_max[cl] + 1e-6 * all_max)
+            let sc = g.rtol * (l + w.class_max[cl] + 1e-6 * all_lam)
                 + ROUNDOFF * (l + w.class_max[cl])
                 + f64::MIN_POSITIVE;
             err = err.max((bp * w.lin.x[n + k]).abs() / sc);
