@@ -27,6 +27,7 @@ fn lumped(shape: &str) -> BeamSpec {
             g: 8.1e10,
             j: 1.4e-8,
         },
+        frame: Default::default(),
         force_tape: false,
     }
 }

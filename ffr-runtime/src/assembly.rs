@@ -90,8 +90,10 @@ pub struct Assembly<'s, B: Body> {
     pub(crate) mult_class: Vec<u32>,
     /// Class of each coordinate.
     pub(crate) coord_class: Vec<u32>,
-    /// Number of classes.
-    pub(crate) n_classes: usize,
+    /// Per class: the class of the same body whose positions, times the
+    /// factor, also set this class's round-off floor (a beam's elastic
+    /// translations and rotations, linked by its length `L`).
+    pub(crate) class_link: Vec<Option<(u32, f64)>>,
 }
 
 fn v3(x: &[f64]) -> Vector3<f64> {
@@ -168,7 +170,8 @@ impl<'s, B: Body> Assembly<'s, B> {
         let mut bodies = Vec::new();
         let mut coord_class = vec![0u32; n];
         let mut n_classes = 0u32;
-        for b in &sys.bodies {
+        let mut class_link = Vec::new();
+        for (i, b) in sys.bodies.iter().enumerate() {
             let lay = b.body.layout();
             let o = b.offset;
             let nfr = b.d + b.n_theta;
@@ -195,10 +198,34 @@ impl<'s, B: Body> Assembly<'s, B> {
                     b.name, lay.description
                 )));
             }
+            if frame_free && b.nf > 0 {
+                let frame_marker = sys
+                    .constraints
+                    .iter()
+                    .flat_map(|c| [&c.a, &c.b])
+                    .any(|m| m.body.map(|x| x.0) == Some(i) && m.shape.entries.is_empty());
+                if !frame_marker {
+                    if let Some(what) = rigid_motion_in_elastic(b, &presc) {
+                        return Err(Error::InvalidBody {
+                            body: i,
+                            reason: format!(
+                                "`{}` ({}): its elastic coordinates include the rigid-body motion {what} of its frame, which is not prescribed, so the mass matrix is singular; use a `clamped` or `pinned` reference condition, or prescribe the frame (e.g. ground the body)",
+                                b.name, lay.description
+                            ),
+                        });
+                    }
+                }
+            }
             // Classes: frame translations, frame rotations, elastic
             // translations, elastic rotations.
             let base = n_classes;
             n_classes += 4;
+            match lay.length {
+                Some(l) if l > 0.0 && l.is_finite() && b.nf > 0 => {
+                    class_link.extend([None, None, Some((base + 3, l)), Some((base + 2, 1.0 / l))])
+                }
+                _ => class_link.extend([None; 4]),
+            }
             for k in 0..nfr {
                 coord_class[o + k] = base + u32::from(k >= b.d);
             }
@@ -281,6 +308,7 @@ impl<'s, B: Body> Assembly<'s, B> {
             }
             n_classes += 1;
         }
+        class_link.resize(n_classes as usize, None);
         let shapes: Vec<BlockShape> = blocks
             .iter()
             .zip(&body_border)
@@ -309,7 +337,7 @@ impl<'s, B: Body> Assembly<'s, B> {
             x_border: vec![0.0; n_border as usize],
             mult_class,
             coord_class,
-            n_classes: n_classes as usize,
+            class_link,
         })
     }
 
@@ -1063,9 +1091,10 @@ impl<'s, B: Body> Assembly<'s, B> {
         (p, hh)
     }
 
-    /// Class of each unknown coordinate and multiplier (for convergence).
-    pub(crate) fn classes(&self) -> (&[u32], &[u32], usize) {
-        (&self.coord_class, &self.mult_class, self.n_classes)
+    /// Class of each unknown coordinate and multiplier, and the links
+    /// between classes (for convergence).
+    pub(crate) fn classes(&self) -> (&[u32], &[u32], &[Option<(u32, f64)>]) {
+        (&self.coord_class, &self.mult_class, &self.class_link)
     }
 
     /// Global position of a marker.
@@ -1103,6 +1132,97 @@ fn kin<B: Body>(sys: &System<B>, m: &crate::Marker) -> MarkerKin {
         }
         None => MarkerKin::new(m, 0, 0, 0),
     }
+}
+
+/// Whether a body's elastic coordinates can move it rigidly in a direction
+/// its frame coordinates also move it (a `free` reference condition): the
+/// inertia of that free frame direction (`R_k`, or a rotation) left after
+/// the elastic coordinates take theirs, `M_rr − M_rf m_ff⁻¹ M_fr` at
+/// `q_f = 0`, is round-off of its own (below `10⁴ ε`; a clamped beam of 256
+/// elements keeps about `3·10⁻⁹` of its rotational inertia). The name of the
+/// first such direction, or `None` (also when `m_ff` itself is singular: the
+/// solver then names the coordinate without inertia).
+fn rigid_motion_in_elastic<B: Body>(
+    b: &crate::system::BodyEntry<B>,
+    presc: &[Option<usize>],
+) -> Option<&'static str> {
+    let lay = b.body.layout();
+    let (o, d, nf, hb) = (b.offset, b.d, b.nf, lay.half_bandwidth);
+    let mut work = b.body.work();
+    let mut mass = BodyMass::zeros(nf, hb);
+    b.body.mass(&vec![0.0; nf], &mut work, &mut mass);
+    let mut mff = crate::linalg::BandMatrix::new(nf, hb, hb);
+    for r in 0..nf {
+        for c in r.saturating_sub(hb)..(r + hb + 1).min(nf) {
+            mff.set(r, c, mass.m_ff.get(r, c));
+        }
+    }
+    mff.factor().ok()?;
+    // Free frame directions among [ā (3), α (3)]: a translation whose
+    // coordinate is free, the rotations if any rotational coordinate is.
+    let rot_free = (o + d..o + d + b.n_theta).any(|c| presc[c].is_none());
+    let dirs: Vec<(usize, &'static str)> = if d == 2 {
+        [(0, "R_x"), (1, "R_y"), (5, "θ")]
+            .into_iter()
+            .filter(|&(k, _)| {
+                if k < 3 {
+                    presc[o + k].is_none()
+                } else {
+                    rot_free
+                }
+            })
+            .collect()
+    } else {
+        [
+            (0, "R_x"),
+            (1, "R_y"),
+            (2, "R_z"),
+            (3, "(rotation about the body x axis)"),
+            (4, "(rotation about the body y axis)"),
+            (5, "(rotation about the body z axis)"),
+        ]
+        .into_iter()
+        .filter(|&(k, _)| {
+            if k < 3 {
+                presc[o + k].is_none()
+            } else {
+                rot_free
+            }
+        })
+        .collect()
+    };
+    let n = dirs.len();
+    // S = M_rr − M_rf m_ff⁻¹ M_fr on the free directions.
+    let mut x = vec![0.0; nf * n];
+    for (j, &(k, _)) in dirs.iter().enumerate() {
+        x[j * nf..(j + 1) * nf].copy_from_slice(&mass.m_ref_f[k * nf..(k + 1) * nf]);
+    }
+    mff.solve_many(&mut x, n);
+    let mut s = vec![0.0; n * n];
+    for (i, &(ki, _)) in dirs.iter().enumerate() {
+        for (j, &(kj, _)) in dirs.iter().enumerate() {
+            let coupling: f64 = (0..nf)
+                .map(|a| mass.m_ref_f[ki * nf + a] * x[j * nf + a])
+                .sum();
+            s[i * n + j] = mass.m_ref_frame[ki * 6 + kj] - coupling;
+        }
+    }
+    // Symmetric elimination; a pivot at round-off of the direction's own
+    // inertia is a direction the elastic coordinates already describe.
+    for k in 0..n {
+        let own = mass.m_ref_frame[dirs[k].0 * 7];
+        let p = s[k * n + k];
+        if !(p > 1e4 * f64::EPSILON * own) {
+            return Some(dirs[k].1);
+        }
+        for i in k + 1..n {
+            let f = s[i * n + k] / p;
+            for j in k..n {
+                s[i * n + j] -= f * s[k * n + j];
+            }
+        }
+    }
+    None
 }
 
 fn local_index(ka: &MarkerKin, kb: Option<&MarkerKin>, i: usize) -> usize {

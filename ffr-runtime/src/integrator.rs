@@ -7,10 +7,15 @@
 //! an acceleration (`β' Δq`), is below `rtol` times that coordinate's
 //! acceleration scale (its own `|q̈|` plus the largest `|q̈|` of its class —
 //! frame translations, frame rotations, elastic translations, elastic
-//! rotations of one body — plus `10⁻⁶` of the largest of all), and likewise
-//! every multiplier update relative to its joint's multipliers. This is
+//! rotations of one body — plus `10⁻⁶` of the largest of all coordinates'),
+//! and likewise every multiplier update relative to its joint's multipliers
+//! (plus `10⁻⁶` of the largest of all multipliers; accelerations and
+//! multipliers are never compared with each other, their ratio is a mass). This is
 //! independent of the step size and of the units, so the answer converges as
-//! `dt` shrinks and meshes refine.
+//! `dt` shrinks and meshes refine. Updates below the round-off of the
+//! positions (of the coordinate's class, and for a beam's elastic rotations
+//! and translations also of the other class through the body length) are
+//! converged whatever the accelerations: in a steady state they are noise.
 
 use crate::assembly::Assembly;
 use crate::body::Body;
@@ -173,6 +178,12 @@ struct Work {
     k: [Vec<f64>; 8],
     class_max: Vec<f64>,
     class_qmax: Vec<f64>,
+    /// Position scale of each class's round-off floor (`class_qmax` plus
+    /// its linked class's, converted by the body length).
+    class_qfloor: Vec<f64>,
+    class_link: Vec<Option<(u32, f64)>>,
+    /// Classes `0..coord_classes` are coordinates', the rest multipliers'.
+    coord_classes: usize,
     prev_a: Vec<f64>,
     prev_h: f64,
     coord_class: Vec<u32>,
@@ -184,7 +195,8 @@ struct Work {
 impl Work {
     fn new<B: Body>(asm: &Assembly<B>) -> Self {
         let (n, m) = (asm.n, asm.m);
-        let (cc, mc, classes) = asm.classes();
+        let (cc, mc, links) = asm.classes();
+        let classes = links.len();
         Self {
             lin: Lin {
                 r: vec![0.0; n + m],
@@ -203,6 +215,9 @@ impl Work {
             k: std::array::from_fn(|_| vec![0.0; n]),
             class_max: vec![0.0; classes],
             class_qmax: vec![0.0; classes],
+            class_qfloor: vec![0.0; classes],
+            class_link: links.to_vec(),
+            coord_classes: cc.iter().map(|&k| k as usize + 1).max().unwrap_or(0),
             prev_a: vec![0.0; n],
             prev_h: 0.0,
             coord_class: cc.to_vec(),
@@ -481,11 +496,17 @@ fn rk4_step<B: Body>(
 const ROUNDOFF: f64 = 64.0 * f64::EPSILON;
 
 /// The acceleration-level tolerance of coordinate `c` (class `k`):
-/// `rtol (|q̈_c| + max_k |q̈| + 10⁻⁶ max |q̈|) + β' · 64 ε (|q_c| + max_k |q|)`,
-/// the second term the round-off floor of a position update.
+/// `rtol (|q̈_c| + max_k |q̈| + 10⁻⁶ max |q̈|) + β' · 64 ε (|q_c| + max_k |q| + max_k' |q| · f)`,
+/// the second term the round-off floor of a position update. `k'` is the
+/// class linked to `k` with the factor `f` (a beam's elastic rotations and
+/// translations, `f = 1/L` and `L`): the linear solve mixes the round-off of
+/// every coordinate into each update, so a class whose own positions are at
+/// zero (the elastic rotations of a beam that only stretches) still sees the
+/// noise of the other's (a rotation of `64 ε |u|/L` moves the points of the
+/// beam by round-off of its displacements `u`).
 fn coord_scale(g: &GeneralizedAlpha, w: &Work, c: usize, k: usize, bp: f64, all_max: f64) -> f64 {
     g.rtol * (w.a[c].abs() + w.class_max[k] + 1e-6 * all_max)
-        + bp * ROUNDOFF * (w.q[c].abs() + w.class_qmax[k])
+        + bp * ROUNDOFF * (w.q[c].abs() + w.class_qfloor[k])
         + f64::MIN_POSITIVE
 }
 
@@ -682,7 +703,16 @@ fn ga_step<B: Body>(
             let cl = w.mult_class[k] as usize;
             w.class_max[cl] = w.class_max[cl].max((w.lam[k] * bp).abs());
         }
-        let all_max = w.class_max.iter().fold(0.0f64, |s, x| s.max(*x));
+        for (k, link) in w.class_link.iter().enumerate() {
+            w.class_qfloor[k] =
+                w.class_qmax[k] + link.map_or(0.0, |(p, f)| f * w.class_qmax[p as usize]);
+        }
+        // The largest |q̈| of all coordinates and the largest |λ| of all
+        // multipliers, apart: one is an acceleration, the other a force, and
+        // their ratio is the system's mass.
+        let (coord_classes, mult_classes) = w.class_max.split_at(w.coord_classes);
+        let all_max = coord_classes.iter().fold(0.0f64, |s, x| s.max(*x));
+        let all_lam = mult_classes.iter().fold(0.0f64, |s, x| s.max(*x));
         let mut err = 0.0f64;
         for c in 0..n {
             if asm.is_prescribed(c) {
@@ -694,7 +724,7 @@ fn ga_step<B: Body>(
         for k in 0..m {
             let cl = w.mult_class[k] as usize;
             let l = (w.lam[k] * bp).abs();
-            let sc = g.rtol * (l + w.class_max[cl] + 1e-6 * all_max)
+            let sc = g.rtol * (l + w.class_max[cl] + 1e-6 * all_lam)
                 + ROUNDOFF * (l + w.class_max[cl])
                 + f64::MIN_POSITIVE;
             err = err.max((bp * w.lin.x[n + k]).abs() / sc);

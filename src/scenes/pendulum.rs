@@ -197,6 +197,8 @@ pub struct PendulumReport {
     pub max_tip_deflection: f64,
     /// Lowest global `y` of the free end (m; `−L` when it swings through the vertical).
     pub min_tip_y: f64,
+    /// Global position of the free end at the end of the run (m).
+    pub final_tip: Vector3<f64>,
     /// Newton iterations (generalized-α).
     pub newton_iterations: usize,
     /// Iteration-matrix factorizations (generalized-α).
@@ -225,11 +227,20 @@ pub type BeamScene = (System<KernelBody<Kernels>>, BodyId);
 
 /// The pendulum system of `args` (compiled beam body, [`scene`]).
 pub fn system(args: &PendulumArgs) -> Result<BeamScene, Box<dyn std::error::Error>> {
+    system_with(args, ALUMINIUM_BAR)
+}
+
+/// [`system`] with the bar's parameters `params` instead of
+/// [`ALUMINIUM_BAR`] (scale and stiffness studies).
+pub fn system_with(
+    args: &PendulumArgs,
+    params: Params,
+) -> Result<BeamScene, Box<dyn std::error::Error>> {
     let body = beam_spec(
         args.beam,
         args.elements as usize,
         Reference::Clamped,
-        ALUMINIUM_BAR,
+        params,
     )
     .body()?;
     scene(body)
@@ -254,6 +265,17 @@ pub fn constraint_violation<B: Body>(
 
 /// Run the pendulum and measure energy drift and constraint violation.
 pub fn run(args: &PendulumArgs) -> Result<PendulumReport, Box<dyn std::error::Error>> {
+    run_with(args, ALUMINIUM_BAR, |_| ControlFlow::Continue(()))
+}
+
+/// [`run`] with the bar's parameters `params`, and `stop` asked after every
+/// step whether to go on (a time limit; a stopped run is reported as far as
+/// it went, with [`PendulumReport::steps`] short of the full run).
+pub fn run_with(
+    args: &PendulumArgs,
+    params: Params,
+    mut stop: impl FnMut(f64) -> ControlFlow<()>,
+) -> Result<PendulumReport, Box<dyn std::error::Error>> {
     for (name, v) in [("--t-end", args.t_end), ("--dt", args.dt)] {
         if !v.is_finite() || v <= 0.0 {
             return Err(format!("{name} must be a positive number, found {v}").into());
@@ -262,7 +284,7 @@ pub fn run(args: &PendulumArgs) -> Result<PendulumReport, Box<dyn std::error::Er
     if !(0.0..=1.0).contains(&args.rho_inf) {
         return Err(format!("--rho-inf must be in [0, 1], found {}", args.rho_inf).into());
     }
-    let (sys, b) = system(args)?;
+    let (sys, b) = system_with(args, params)?;
     let body = sys.body(b);
     let length = body
         .layout()
@@ -283,6 +305,7 @@ pub fn run(args: &PendulumArgs) -> Result<PendulumReport, Box<dyn std::error::Er
         max_phi_dot: 0.0,
         max_tip_deflection: 0.0,
         min_tip_y: 0.0,
+        final_tip: Vector3::zeros(),
         newton_iterations: 0,
         jacobians: 0,
         wall: 0.0,
@@ -305,7 +328,8 @@ pub fn run(args: &PendulumArgs) -> Result<PendulumReport, Box<dyn std::error::Er
         }
         r.max_tip_deflection = r.max_tip_deflection.max(u.norm());
         r.min_tip_y = r.min_tip_y.min(v.assembly.marker_position(&tip, q).y);
-        ControlFlow::Continue(())
+        r.final_tip = v.assembly.marker_position(&tip, q);
+        stop(v.state.t)
     })?;
     r.wall = t0.elapsed().as_secs_f64();
     r.steps = summary.steps;
