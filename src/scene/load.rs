@@ -67,7 +67,9 @@ pub enum OutputKind {
     /// reference marker `a`, about `a`'s z axis (`atan2(x·y_a, x·x_a)`),
     /// unwrapped along the run.
     Angle,
-    /// An energy: total, kinetic, elastic, gravity or springs.
+    /// An energy: total, kinetic, elastic, gravity or springs; or the
+    /// work done on the system so far by point forces and motors, or taken
+    /// out by dampers (trapezoidal rule over the steps).
     Energy(EnergyPart),
 }
 
@@ -84,6 +86,10 @@ pub enum EnergyPart {
     Gravity,
     /// Springs.
     Springs,
+    /// `∫ P_applied dt`: work of the point forces and motors since `t = 0`.
+    Work,
+    /// `∫ P_dissipated dt`: energy taken out by the dampers since `t = 0`.
+    Dissipated,
 }
 
 /// An output column.
@@ -737,6 +743,38 @@ fn build(
             sys.set_velocity(id, v, w)
                 .map_err(|e| c.err(span.clone(), e.to_string()))?;
         }
+        if let Some(el) = &rb.elastic {
+            if rigid_body(rb) {
+                return Err(c.err(
+                    el.span(),
+                    format!("body `{name_s}` is rigid: `elastic` is the initial state of a flexible body"),
+                ));
+            }
+            let labels = sys.body(id).layout().labels.clone();
+            let by_label = |t: &Option<Spanned<crate::codegen::scene::RawLabelled>>,
+                            what: &str|
+             -> Result<Vec<f64>, SceneError> {
+                let mut out = vec![0.0; labels.len()];
+                for (k, x) in t.iter().flat_map(|t| t.get_ref()) {
+                    let Some(i) = labels.iter().position(|l| l == k.get_ref()) else {
+                        return Err(c.err(
+                            k.span(),
+                            format!(
+                                "body `{name_s}` has no elastic coordinate `{}`; its coordinates are {}",
+                                k.get_ref().escape_debug(),
+                                labels.join(", ")
+                            ),
+                        ));
+                    };
+                    out[i] = fin_f64(c, x, &format!("{what}.{}", k.get_ref()))?;
+                }
+                Ok(out)
+            };
+            let q_f = by_label(&el.get_ref().q, "q")?;
+            let qd_f = by_label(&el.get_ref().qd, "qd")?;
+            sys.set_elastic(id, &q_f, &qd_f)
+                .map_err(|e| c.err(el.span(), e.to_string()))?;
+        }
         ids.push(id);
     }
     // Gravity.
@@ -793,7 +831,11 @@ fn build(
             }
             sys.prescribe_rotation_about_z(bid, drive)
                 .map_err(|e| c.err(j.span(), e.to_string()))?;
-            notes.push(format!("body `{}`: revolute joint to the ground with an angle drive folded into prescribed frame coordinates (elastic equations only)", names[bi]));
+            notes.push(format!(
+                "body `{}`: revolute joint to the ground with an angle drive folded into prescribed frame coordinates ({})",
+                names[bi],
+                if b.rigid[bi] { "no equations left" } else { "elastic equations only" }
+            ));
             continue;
         }
         let res = match kind {
@@ -1112,7 +1154,9 @@ fn output(
                 Some("elastic") => EnergyPart::Elastic,
                 Some("gravity") => EnergyPart::Gravity,
                 Some("springs") => EnergyPart::Springs,
-                Some(other) => return Err(c.err(r.component.as_ref().expect("some").span(), format!("energy `component` is total, kinetic, elastic, gravity or springs — found `{other}`"))),
+                Some("work") => EnergyPart::Work,
+                Some("dissipated") => EnergyPart::Dissipated,
+                Some(other) => return Err(c.err(r.component.as_ref().expect("some").span(), format!("energy `component` is total, kinetic, elastic, gravity, springs, work or dissipated — found `{other}`"))),
             };
             return Ok(Output { name, kind: OutputKind::Energy(part), marker: Marker::ground(Vector3::zeros()), relative_to: None });
         }
