@@ -182,12 +182,15 @@ pub struct Scene {
 struct Ctx<'a> {
     file: &'a str,
     text: &'a str,
+    /// Where in `text` the spans start (a table parsed on its own, such as
+    /// a motor's target profile, has spans relative to its own text).
+    base: usize,
 }
 
 impl Ctx<'_> {
     fn err(&self, span: Range<usize>, msg: impl Into<String>) -> SceneError {
         SceneError {
-            location: Some(Location::of(self.file, self.text, span.start)),
+            location: Some(Location::of(self.file, self.text, self.base + span.start)),
             message: msg.into(),
         }
     }
@@ -260,7 +263,11 @@ pub fn from_str(
     base: &Path,
     provider: &dyn KernelProvider,
 ) -> Result<Scene, SceneError> {
-    let c = Ctx { file, text };
+    let c = Ctx {
+        file,
+        text,
+        base: 0,
+    };
     let raw: RawScene = crate::codegen::scene::parse(text, file).map_err(scene_error)?;
     build(&c, raw, base, provider)
 }
@@ -994,15 +1001,30 @@ fn motor(c: &Ctx, m: &Spanned<RawMotor>) -> Result<TorqueLaw, SceneError> {
                 toml::Value::Float(x) => Driver::constant(*x),
                 toml::Value::Integer(x) => Driver::constant(*x as f64),
                 toml::Value::Table(_) => {
-                    let p: RawProfile =
-                        target
-                            .get_ref()
-                            .clone()
-                            .try_into()
-                            .map_err(|e: toml::de::Error| {
-                                c.err(target.span(), format!("motor `target`: {}", e.message()))
-                            })?;
-                    profile(c, &Spanned::new(target.span(), p), "angle")?
+                    // Parse the profile table's own text (spans kept): its
+                    // fields are spanned, which a `toml::Value` cannot give.
+                    const KEY: &str = "t=";
+                    let span = target.span();
+                    let own = c
+                        .text
+                        .get(c.base + span.start..c.base + span.end)
+                        .filter(|_| c.base + span.start >= KEY.len())
+                        .ok_or_else(|| c.err(span.clone(), "motor `target`: not a table"))?;
+                    let sub = Ctx {
+                        file: c.file,
+                        text: c.text,
+                        base: c.base + span.start - KEY.len(),
+                    };
+                    #[derive(serde::Deserialize)]
+                    struct Wrap {
+                        t: Spanned<RawProfile>,
+                    }
+                    let w: Wrap =
+                        toml::from_str(&format!("{KEY}{own}")).map_err(|e: toml::de::Error| {
+                            let at = e.span().map_or(KEY.len(), |s| s.start);
+                            sub.err(at..at, format!("motor `target`: {}", e.message().trim()))
+                        })?;
+                    profile(&sub, &w.t, "angle")?
                 }
                 other => {
                     return Err(c.err(
