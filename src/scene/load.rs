@@ -191,7 +191,8 @@ impl Ctx<'_> {
     fn err(&self, span: Range<usize>, msg: impl Into<String>) -> SceneError {
         SceneError {
             location: Some(Location::of(self.file, self.text, self.base + span.start)),
-            message: msg.into(),
+            // The runtime's errors carry their kind; the scene's say where.
+            message: msg.into().replace("invalid input: ", ""),
         }
     }
 }
@@ -279,7 +280,7 @@ fn parse_params(
     body: &str,
     raw: &RawBody,
     span: Range<usize>,
-) -> Result<Params, SceneError> {
+) -> Result<(Params, [bool; 8], Range<usize>), SceneError> {
     let Some(p) = &raw.params else {
         return Err(c.err(
             span,
@@ -304,7 +305,7 @@ fn parse_params(
     if !given[0] {
         return Err(c.err(p.span(), format!("body `{body}`: `params` needs `length`")));
     }
-    Ok(Params::from_array(v))
+    Ok((Params::from_array(v), given, p.span()))
 }
 
 /// A marker in the scene's syntax.
@@ -656,7 +657,7 @@ fn build(
             if rb.modes.is_some() || rb.reduction.is_some() {
                 return Err(c.err(span.clone(), format!("body `{name_s}`: modal bodies (`modes`, `reduction`) are not available in scene files yet")));
             }
-            let params = parse_params(c, name_s, rb, span.clone())?;
+            let (params, given, params_span) = parse_params(c, name_s, rb, span.clone())?;
             let shape_s = shape.get_ref();
             let resolved = if crate::codegen::Shape::builtin(shape_s).is_some() {
                 shape_s.clone()
@@ -685,6 +686,24 @@ fn build(
             let dimension = kernels.info().dim;
             if dimension > dim {
                 return Err(c.err(shape.span(), format!("body `{name_s}`: shape `{shape_s}` is spatial; a planar scene needs a planar shape")));
+            }
+            // A parameter the body uses must be given (a missing one would
+            // be reported as zero).
+            let used = &kernels.info().params_used;
+            if let Some(missing) = Param::FIELDS
+                .iter()
+                .enumerate()
+                .find(|(i, f)| !given[*i] && used.contains(f))
+            {
+                let names: Vec<&str> = used.iter().map(|p| p.field()).collect();
+                return Err(c.err(
+                    params_span,
+                    format!(
+                        "body `{name_s}`: `params` needs `{}`: shape `{shape_s}` in this scene uses {}",
+                        missing.1.field(),
+                        names.join(", ")
+                    ),
+                ));
             }
             let kb = KernelBody::new(kernels, params, n as usize, reference)
                 .map_err(|e| c.err(span.clone(), format!("body `{name_s}`: {e}")))?;
@@ -844,6 +863,9 @@ fn build(
                 if b.rigid[bi] { "no equations left" } else { "elastic equations only" }
             ));
             continue;
+        }
+        if kind == "spherical" && dim == 2 {
+            return Err(c.err(jr.kind.span(), "a `spherical` joint needs a spatial scene (dimension = 3); a planar scene has ground, fixed, revolute and prismatic joints"));
         }
         let res = match kind {
             "revolute" => sys.revolute(am.clone(), bm.clone()),
