@@ -74,6 +74,21 @@ pub struct RawBody {
     pub orientation: Option<Spanned<RawOrientation>>,
     pub velocity: Option<Spanned<Vec<f64>>>,
     pub omega: Option<Spanned<toml::Value>>,
+    /// Initial elastic state (flexible bodies).
+    pub elastic: Option<Spanned<RawElastic>>,
+}
+
+/// A table of values by coordinate label, `{ uy_4 = 1e-3, rz_4 = 0.01 }`.
+pub type RawLabelled = BTreeMap<Spanned<String>, Spanned<f64>>;
+
+/// `elastic = { q = { ux_8 = 1e-5 }, qd = { uy_4 = 0.4 } }`: initial
+/// elastic coordinates and rates by label (the body's coordinate labels,
+/// `ux_i`, `uy_i`, `rz_i`, …); labels not given start at 0.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawElastic {
+    pub q: Option<Spanned<RawLabelled>>,
+    pub qd: Option<Spanned<RawLabelled>>,
 }
 
 /// `orientation = { axis = [0, 0, 1], angle = 0.0 }`.
@@ -278,7 +293,7 @@ impl RawJoint {
     /// Whether this joint fixes its body's frame completely and can be
     /// folded into prescribed frame coordinates: a revolute joint between a
     /// ground point and a body's frame origin (`b = "NAME"`), with an angle
-    /// drive and no motor.
+    /// drive and no motor. Flexible and rigid bodies alike.
     pub fn folds(&self) -> bool {
         self.kind.get_ref() == "revolute"
             && self.motor.is_none()
@@ -295,13 +310,14 @@ impl RawJoint {
 }
 
 impl RawScene {
-    /// For each body (by name), the joint that folds its frame, if any.
+    /// For each body (by name; flexible or rigid), the joint that folds its
+    /// frame, if any.
     pub fn folded(&self) -> BTreeMap<String, usize> {
         let mut out = BTreeMap::new();
         for (i, j) in self.joints.iter().enumerate() {
             if j.folds() {
                 let b = j.b.get_ref().trim().to_string();
-                if self.bodies.get(&b).is_some_and(|rb| rb.mass.is_none()) {
+                if self.bodies.contains_key(&b) {
                     out.entry(b).or_insert(i);
                 }
             }

@@ -18,7 +18,7 @@
 
 use crate::body::{BandBuf, Body, BodyForces, BodyMass, BodyState, BodyTangent, BodyWork};
 use crate::error::{Error, Result};
-use crate::force::{ForceElement, ForceEval};
+use crate::force::{ForceElement, ForceEval, TorqueLaw};
 use crate::joint::RowEval;
 use crate::linalg::{BlockShape, BorderedSystem};
 use crate::marker::MarkerKin;
@@ -1061,6 +1061,48 @@ impl<'s, B: Body> Assembly<'s, B> {
             }
         }
         e
+    }
+
+    /// Rates of work of the force elements and of the damping at `(t, q, q̇)`
+    /// ([`crate::Power`]).
+    pub fn power(&mut self, t: f64, q: &[f64], v: &[f64]) -> crate::Power {
+        let mut p = crate::Power::default();
+        for (b, sc) in self.sys.bodies.iter().zip(&self.bodies) {
+            if let Some(dm) = &sc.damping {
+                let f0 = b.offset + b.d + b.n_theta;
+                let vf = &v[f0..f0 + b.nf];
+                let mut dv = vec![0.0; b.nf];
+                dm.mul_add(vf, 1.0, &mut dv);
+                p.dissipated += vf.iter().zip(&dv).map(|(a, b)| a * b).sum::<f64>();
+            }
+        }
+        for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {
+            eval_force(fe, fw, q, v, t, None);
+            let rate = fw.eval.rate;
+            match fe {
+                ForceElement::Point { .. }
+                | ForceElement::Torque {
+                    law: TorqueLaw::Torque(_) | TorqueLaw::Pd { .. },
+                    ..
+                } => {
+                    p.applied += fw
+                        .eval
+                        .q
+                        .iter()
+                        .zip(&fw.qd)
+                        .map(|(a, b)| a * b)
+                        .sum::<f64>();
+                }
+                ForceElement::Torque {
+                    law: TorqueLaw::SpringDamper { damping, .. },
+                    ..
+                }
+                | ForceElement::SpringDamper { damping, .. } => {
+                    p.dissipated += damping * rate * rate;
+                }
+            }
+        }
+        p
     }
 
     /// Total linear momentum and angular momentum about the global origin.

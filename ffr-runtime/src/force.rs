@@ -136,6 +136,9 @@ pub(crate) struct ForceEval {
     pub energy: f64,
     /// The relative angle `φ` and rate `φ̇` of a torque element.
     pub angle: (f64, f64),
+    /// The rate its damper acts on (`l̇` of a spring–damper, `φ̇` of a
+    /// torque), 0 for a point force.
+    pub rate: f64,
     dv: Vec<Vector3<f64>>,
     rows: [Row; 2],
     evals: [RowEval; 2],
@@ -171,6 +174,7 @@ impl ForceEval {
             k: vec![0.0; n * n],
             energy: 0.0,
             angle: (0.0, 0.0),
+            rate: 0.0,
             dv: vec![Vector3::zeros(); n],
             rows: angle_rows(),
             evals: [RowEval::new(n), RowEval::new(n)],
@@ -193,6 +197,7 @@ impl ForceEval {
         let n = self.q.len();
         self.q.iter_mut().for_each(|x| *x = 0.0);
         self.energy = 0.0;
+        self.rate = 0.0;
         if gp.is_some() {
             self.k.iter_mut().for_each(|x| *x = 0.0);
         }
@@ -237,6 +242,7 @@ impl ForceEval {
                 }
                 let phid: f64 = (0..n).map(|i| self.grad[i] * qd[i]).sum();
                 self.angle = (phi, phid);
+                self.rate = phid;
                 let (tau, dtau_dphi, dtau_dphid) = match law {
                     TorqueLaw::Torque(f) => (f(t), 0.0, 0.0),
                     TorqueLaw::SpringDamper {
@@ -314,6 +320,7 @@ impl ForceEval {
                 let e = dvec / l;
                 let ddot: Vector3<f64> = (0..n).map(|i| self.dv[i] * qd[i]).sum();
                 let ldot = e.dot(&ddot);
+                self.rate = ldot;
                 let f = stiffness * (l - rest_length) + damping * ldot;
                 let fe_vec = e * f;
                 for i in 0..n {

@@ -66,3 +66,18 @@ impl Energy {
         self.kinetic + self.elastic + self.gravity + self.springs
     }
 }
+
+/// Rates of work at a state (W): what the force elements and the damping
+/// put into the system and take out of it. With them the mechanical energy
+/// balances, `E(t) − E(0) = ∫ applied dt − ∫ dissipated dt`, when no
+/// prescribed motion (a drive, a prescribed coordinate) does work.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Power {
+    /// Power of the point forces (`F · ṗ`) and of the motors (`τ φ̇` of a
+    /// constant-torque or PD law).
+    pub applied: f64,
+    /// Power the dampers take out (`≥ 0`): `c l̇²` of each spring–damper,
+    /// `c φ̇²` of each rotational spring–damper, `q̇_fᵀ (α m_ff + β K_ff) q̇_f`
+    /// of each body with Rayleigh damping.
+    pub dissipated: f64,
+}

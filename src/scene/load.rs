@@ -67,7 +67,9 @@ pub enum OutputKind {
     /// reference marker `a`, about `a`'s z axis (`atan2(x·y_a, x·x_a)`),
     /// unwrapped along the run.
     Angle,
-    /// An energy: total, kinetic, elastic, gravity or springs.
+    /// An energy: total, kinetic, elastic, gravity or springs; or the
+    /// work done on the system so far by point forces and motors, or taken
+    /// out by dampers (trapezoidal rule over the steps).
     Energy(EnergyPart),
 }
 
@@ -84,6 +86,10 @@ pub enum EnergyPart {
     Gravity,
     /// Springs.
     Springs,
+    /// `∫ P_applied dt`: work of the point forces and motors since `t = 0`.
+    Work,
+    /// `∫ P_dissipated dt`: energy taken out by the dampers since `t = 0`.
+    Dissipated,
 }
 
 /// An output column.
@@ -176,13 +182,17 @@ pub struct Scene {
 struct Ctx<'a> {
     file: &'a str,
     text: &'a str,
+    /// Where in `text` the spans start (a table parsed on its own, such as
+    /// a motor's target profile, has spans relative to its own text).
+    base: usize,
 }
 
 impl Ctx<'_> {
     fn err(&self, span: Range<usize>, msg: impl Into<String>) -> SceneError {
         SceneError {
-            location: Some(Location::of(self.file, self.text, span.start)),
-            message: msg.into(),
+            location: Some(Location::of(self.file, self.text, self.base + span.start)),
+            // The runtime's errors carry their kind; the scene's say where.
+            message: msg.into().replace("invalid input: ", ""),
         }
     }
 }
@@ -254,7 +264,11 @@ pub fn from_str(
     base: &Path,
     provider: &dyn KernelProvider,
 ) -> Result<Scene, SceneError> {
-    let c = Ctx { file, text };
+    let c = Ctx {
+        file,
+        text,
+        base: 0,
+    };
     let raw: RawScene = crate::codegen::scene::parse(text, file).map_err(scene_error)?;
     build(&c, raw, base, provider)
 }
@@ -266,7 +280,7 @@ fn parse_params(
     body: &str,
     raw: &RawBody,
     span: Range<usize>,
-) -> Result<Params, SceneError> {
+) -> Result<(Params, [bool; 8], Range<usize>), SceneError> {
     let Some(p) = &raw.params else {
         return Err(c.err(
             span,
@@ -291,7 +305,7 @@ fn parse_params(
     if !given[0] {
         return Err(c.err(p.span(), format!("body `{body}`: `params` needs `length`")));
     }
-    Ok(Params::from_array(v))
+    Ok((Params::from_array(v), given, p.span()))
 }
 
 /// A marker in the scene's syntax.
@@ -652,7 +666,7 @@ fn build(
             if rb.modes.is_some() || rb.reduction.is_some() {
                 return Err(c.err(span.clone(), format!("body `{name_s}`: modal bodies (`modes`, `reduction`) are not available in scene files yet")));
             }
-            let params = parse_params(c, name_s, rb, span.clone())?;
+            let (params, given, params_span) = parse_params(c, name_s, rb, span.clone())?;
             let shape_s = shape.get_ref();
             let resolved = if crate::codegen::Shape::builtin(shape_s).is_some() {
                 shape_s.clone()
@@ -681,6 +695,24 @@ fn build(
             let dimension = kernels.info().dim;
             if dimension > dim {
                 return Err(c.err(shape.span(), format!("body `{name_s}`: shape `{shape_s}` is spatial; a planar scene needs a planar shape")));
+            }
+            // A parameter the body uses must be given (a missing one would
+            // be reported as zero).
+            let used = &kernels.info().params_used;
+            if let Some(missing) = Param::FIELDS
+                .iter()
+                .enumerate()
+                .find(|(i, f)| !given[*i] && used.contains(f))
+            {
+                let names: Vec<&str> = used.iter().map(|p| p.field()).collect();
+                return Err(c.err(
+                    params_span,
+                    format!(
+                        "body `{name_s}`: `params` needs `{}`: shape `{shape_s}` in this scene uses {}",
+                        missing.1.field(),
+                        names.join(", ")
+                    ),
+                ));
             }
             let kb = KernelBody::new(kernels, params, n as usize, reference)
                 .map_err(|e| c.err(span.clone(), format!("body `{name_s}`: {e}")))?;
@@ -746,6 +778,38 @@ fn build(
             sys.set_velocity(id, v, w)
                 .map_err(|e| c.err(span.clone(), e.to_string()))?;
         }
+        if let Some(el) = &rb.elastic {
+            if rigid_body(rb) {
+                return Err(c.err(
+                    el.span(),
+                    format!("body `{name_s}` is rigid: `elastic` is the initial state of a flexible body"),
+                ));
+            }
+            let labels = sys.body(id).layout().labels.clone();
+            let by_label = |t: &Option<Spanned<crate::codegen::scene::RawLabelled>>,
+                            what: &str|
+             -> Result<Vec<f64>, SceneError> {
+                let mut out = vec![0.0; labels.len()];
+                for (k, x) in t.iter().flat_map(|t| t.get_ref()) {
+                    let Some(i) = labels.iter().position(|l| l == k.get_ref()) else {
+                        return Err(c.err(
+                            k.span(),
+                            format!(
+                                "body `{name_s}` has no elastic coordinate `{}`; its coordinates are {}",
+                                k.get_ref().escape_debug(),
+                                labels.join(", ")
+                            ),
+                        ));
+                    };
+                    out[i] = fin_f64(c, x, &format!("{what}.{}", k.get_ref()))?;
+                }
+                Ok(out)
+            };
+            let q_f = by_label(&el.get_ref().q, "q")?;
+            let qd_f = by_label(&el.get_ref().qd, "qd")?;
+            sys.set_elastic(id, &q_f, &qd_f)
+                .map_err(|e| c.err(el.span(), e.to_string()))?;
+        }
         ids.push(id);
     }
     // Gravity.
@@ -802,8 +866,15 @@ fn build(
             }
             sys.prescribe_rotation_about_z(bid, drive)
                 .map_err(|e| c.err(j.span(), e.to_string()))?;
-            notes.push(format!("body `{}`: revolute joint to the ground with an angle drive folded into prescribed frame coordinates (elastic equations only)", names[bi]));
+            notes.push(format!(
+                "body `{}`: revolute joint to the ground with an angle drive folded into prescribed frame coordinates ({})",
+                names[bi],
+                if b.rigid[bi] { "no equations left" } else { "elastic equations only" }
+            ));
             continue;
+        }
+        if kind == "spherical" && dim == 2 {
+            return Err(c.err(jr.kind.span(), "a `spherical` joint needs a spatial scene (dimension = 3); a planar scene has ground, fixed, revolute and prismatic joints"));
         }
         let res = match kind {
             "revolute" => sys.revolute(am.clone(), bm.clone()),
@@ -1107,7 +1178,9 @@ fn output(
                 Some("elastic") => EnergyPart::Elastic,
                 Some("gravity") => EnergyPart::Gravity,
                 Some("springs") => EnergyPart::Springs,
-                Some(other) => return Err(c.err(r.component.as_ref().expect("some").span(), format!("energy `component` is total, kinetic, elastic, gravity or springs — found `{other}`"))),
+                Some("work") => EnergyPart::Work,
+                Some("dissipated") => EnergyPart::Dissipated,
+                Some(other) => return Err(c.err(r.component.as_ref().expect("some").span(), format!("energy `component` is total, kinetic, elastic, gravity, springs, work or dissipated — found `{other}`"))),
             };
             return Ok(Output { name, kind: OutputKind::Energy(part), marker: Marker::ground(Vector3::zeros()), relative_to: None });
         }

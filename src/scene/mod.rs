@@ -1,6 +1,6 @@
 //! Scene files: a TOML description of bodies, joints, drives, motors,
-//! forces and outputs, run by `ffr run SCENE.toml` (format: the README's
-//! "Scene files"), or compiled into a crate by `ffr_codegen::Builder::scene`.
+//! forces and outputs, run by `ffr run SCENE.toml` (format: `docs/scenes.md`),
+//! or compiled into a crate by `ffr_codegen::Builder::scene`.
 
 pub mod emit;
 pub mod load;

@@ -27,6 +27,9 @@ pub struct SceneRun {
     pub wall: f64,
     /// Why the run stopped early (an integrator failure), if it did.
     pub failed: Option<String>,
+    /// The final state (coordinates, velocities, accelerations, multipliers)
+    /// of a run that reached its end, for checks beyond the output columns.
+    pub last: Option<crate::runtime::State>,
 }
 
 /// Run `scene` to its end time, recording every output at every step.
@@ -54,13 +57,33 @@ pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
         ..SceneRun::default()
     };
     let mut prev_angle = vec![f64::NAN; scene.outputs.len()];
+    let wants_power = scene.outputs.iter().any(|o| {
+        matches!(
+            o.kind,
+            OutputKind::Energy(EnergyPart::Work | EnergyPart::Dissipated)
+        )
+    });
+    // Work and dissipation so far, and the last step's powers and time.
+    let (mut work, mut dissipated) = (0.0, 0.0);
+    let mut last_power: Option<(f64, crate::runtime::Power)> = None;
     let start = std::time::Instant::now();
     let res = sys.simulate(scene.t_end, scene.dt, &scene.integrator, |v| {
         let (q, qd) = (&v.state.q, &v.state.v);
         out.t.push(v.state.t);
+        if wants_power {
+            let p = v.assembly.power(v.state.t, q, qd);
+            if let Some((t0, p0)) = last_power {
+                let h = 0.5 * (v.state.t - t0);
+                work += h * (p0.applied + p.applied);
+                dissipated += h * (p0.dissipated + p.dissipated);
+            }
+            last_power = Some((v.state.t, p));
+        }
         let mut energy = None;
         for (i, o) in scene.outputs.iter().enumerate() {
             let value = match &o.kind {
+                OutputKind::Energy(EnergyPart::Work) => work,
+                OutputKind::Energy(EnergyPart::Dissipated) => dissipated,
                 OutputKind::Energy(part) => {
                     let e = *energy.get_or_insert_with(|| v.assembly.energy(q, qd));
                     match part {
@@ -69,6 +92,7 @@ pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
                         EnergyPart::Elastic => e.elastic,
                         EnergyPart::Gravity => e.gravity,
                         EnergyPart::Springs => e.springs,
+                        EnergyPart::Work | EnergyPart::Dissipated => unreachable!(),
                     }
                 }
                 kind => {
@@ -120,6 +144,7 @@ pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
             out.jacobians = s.jacobians;
             out.restarts = s.restarts;
             out.splits = s.splits;
+            out.last = Some(s.last);
         }
         Err(e) => match e {
             crate::runtime::Error::NoConvergence { .. }
