@@ -298,7 +298,15 @@ fn spin_up(cases: &mut Vec<Case>, scene: Scene, full: bool) {
     let ga = Method::new(Scheme::Alpha(0.8), FourthOrder);
     if full {
         let els = [2, 4, 8, 16, 32];
-        add(cases, scene, ga, &els, &[1e-2, 5e-3, 2e-3, 1e-3, 5e-4]);
+        add(
+            cases,
+            scene,
+            ga,
+            &els,
+            &[2e-2, 1e-2, 5e-3, 2e-3, 1e-3, 5e-4],
+        );
+        // Where the model's own error (not the mesh's) sets the floor.
+        add(cases, scene, ga, &[64], &[1e-2, 5e-3, 2e-3]);
         let coarse = [1e-2, 2e-3, 5e-4];
         add(
             cases,
@@ -327,7 +335,7 @@ fn spin_up(cases: &mut Vec<Case>, scene: Scene, full: bool) {
             &[1e-2],
         );
     } else {
-        add(cases, scene, ga, &[2, 8, 32], &[1e-2, 2e-3]);
+        add(cases, scene, ga, &[2, 4, 8, 16, 32], &[1e-2, 2e-3]);
         add(
             cases,
             scene,
@@ -385,7 +393,7 @@ fn slider_crank(cases: &mut Vec<Case>, full: bool) {
         add(cases, scene, simeon, &[2], &steps);
         add(cases, scene, ga.lumped(), &[4], &[5e-5]);
     } else {
-        add(cases, scene, ga, &[2, 4, 8], &[1e-4, 2.5e-5]);
+        add(cases, scene, ga, &[2, 4, 8], &[1e-4, 5e-5, 2.5e-5]);
         add(cases, scene, Method::new(Scheme::Rk4, Off), &[2], &[5e-6]);
         add(cases, scene, ga.tape(), &[4], &[5e-5]);
         add(cases, scene, simeon, &[2], &[1e-4, 2.5e-5]);
@@ -422,7 +430,7 @@ fn pendulum(cases: &mut Vec<Case>, full: bool) {
         add(cases, scene, ga.tape(), &[4], &[1e-3, 2.5e-4]);
         add(cases, scene, ga.lumped(), &[4], &[1e-3]);
     } else {
-        add(cases, scene, ga, &[2, 4], &[2e-3, 5e-4]);
+        add(cases, scene, ga, &[2, 4, 8], &[2e-3, 1e-3, 5e-4]);
         add(cases, scene, Method::new(Scheme::Rk4, Off), &[2], &[4e-5]);
         add(cases, scene, ga.tape(), &[4], &[1e-3]);
         add(cases, scene, ga.lumped(), &[4], &[1e-3]);
@@ -448,8 +456,8 @@ fn free_floating(cases: &mut Vec<Case>, full: bool) {
         add(cases, scene, ga.tape(), &[4], &steps[1..2]);
         add(cases, scene, rk4.lumped(), &[4], &[1e-4]);
     } else {
-        add(cases, scene, rk4, &[2, 4], &[1e-4]);
-        add(cases, scene, ga, &[2, 4], &[1e-4]);
+        add(cases, scene, rk4, &[2, 4], &[2e-4, 1e-4]);
+        add(cases, scene, ga, &[2, 4], &[2e-4, 1e-4]);
         add(cases, scene, rk4.tape(), &[2], &[1e-4]);
         add(cases, scene, rk4.lumped(), &[2], &[1e-4]);
     }
