@@ -48,7 +48,7 @@ fn error_definition(scene: Scene) -> String {
             "`reference`: the transverse tip displacement in the hub frame against the geometrically exact Exudyn history (`bench/reference/spin_up_omega{}.csv`, ANCF cable, 64 elements, dt 1e-4 s; `bench/reference/README.md`), `max_k |y(t_k) − y_ref(t_k)| / max_k |y_ref(t_k)|` over every step time `t_k ≤ 20 s` of the run, the reference interpolated linearly (`ffr::reference`). Beam: 8 m, clamped, `beam2` elements (planar).",
             if scene == Scene::SpinUp4 { 4 } else { 10 }
         ),
-        Scene::SliderCrank => "`published`: the relative error of the rod's first lateral sine-mode amplitude `a₁ = (2/l)∫v sin(πx/l)dx` at `t = 0.1 s` against the published `q₁ = 1.8932e-4 m` of the IVP test set (the quantity the benchmark's `q₁` is; `tests/slider_crank.rs` uses the same values). Rod: `beam2`, pinned reference, prismatic slider, started from the benchmark's initial values. The generated beam carries section rotary inertia, which the benchmark neglects (`tests/slider_crank.rs` measured that it moves `q₁(0.1 s)` by −0.13 %), so the beam rod's error levels off near 1e-3 whatever the mesh and step; `ffr-*-simeon-rod` is the benchmark's own discretization (2 sine modes, `elements` = 2) run in ffr's runtime, whose error is the integration error alone.".into(),
+        Scene::SliderCrank => "`published`: the relative error of the rod's first lateral sine-mode amplitude `a₁ = (2/l)∫v sin(πx/l)dx` at `t = 0.1 s` against the published `q₁ = 1.8932e-4 m` of the IVP test set (the quantity the benchmark's `q₁` is; `tests/slider_crank.rs` uses the same values). Rod: `beam2`, pinned reference, prismatic slider, started from the benchmark's initial values. The generated beam carries section rotary inertia, which the benchmark neglects (`tests/slider_crank.rs` measured that it moves `q₁(0.1 s)` by −0.13 %), so the beam rod's error levels off near 1e-3 whatever the mesh and step; `ffr-*-simeon-rod` is the benchmark's own discretization (2 sine modes, `elements` = 2) run in ffr's runtime, whose error is the integration error alone. The benchmark's rod is linear: runs with geometric stiffening (`-2nd`, `-4th`) solve another model, and their error is mostly that difference.".into(),
         Scene::Pendulum => format!(
             "`energy`: `max |E(t) − E(0)| / (m g L/2)` over {} sample times in 0–1 s (the continuous system conserves `E`; generalized-α with ρ∞ < 1 dissipates it on purpose, which counts as error here). It measures the time integration only, not the spatial discretization. Bar: aluminium 1 m, 10 × 10 mm, `beam2`, clamped reference, pinned to the ground at node 0, released horizontal.",
             measure::SAMPLES
@@ -174,12 +174,18 @@ pub fn report(inp: &Input) -> String {
 
     // ---------------------------------------------------------------- method
     let _ = writeln!(s, "## How it was measured\n");
+    let reps = if inp.grid.reps <= 1 {
+        "One run per point (no repetition: the quick grid's times scatter more)".to_string()
+    } else {
+        format!(
+            "The minimum over up to {} repetitions of the run, each from a freshly built system; a run stops repeating once its repetitions have used {} s of CPU (the `runs` column gives the count)",
+            inp.grid.reps, inp.grid.rep_budget
+        )
+    };
     let _ = writeln!(
         s,
-        "- **CPU time** (`cpu_s`): {} around `System::simulate` only — the scene, its bodies and kernels (tapes included) are built before the clock starts, and the error is computed after it stops; the consistent initial state is part of `simulate`. The minimum over up to {} repetitions of the run, each from a freshly built system; a run stops repeating once its repetitions have used {} s of CPU (the `runs` column gives the count). The spin-up records the tip displacement at every step (its error is taken over every step); the pendulum and the free-floating body evaluate their conserved quantities at {} sample times, not at every step.",
+        "- **CPU time** (`cpu_s`): {} around `System::simulate` only — the scene, its bodies and kernels (tapes included) are built before the clock starts, and the error is computed after it stops; the consistent initial state is part of `simulate`. {reps}. The spin-up records the tip displacement at every step (its error is taken over every step); the pendulum and the free-floating body evaluate their conserved quantities at {} sample times, not at every step.",
         measure::clock_name(),
-        inp.grid.reps,
-        inp.grid.rep_budget,
         measure::SAMPLES
     );
     let _ = writeln!(
