@@ -37,6 +37,9 @@ pub enum Command {
     },
     /// Run the spin-up beam benchmark (the main job).
     SpinUp(SpinUpArgs),
+    /// Work-precision report of the benchmark scenes (report.md, points.csv,
+    /// one SVG per scene; see docs/report.md).
+    Report(crate::report::ReportArgs),
     /// Run a scene file.
     Run {
         /// The scene file (TOML; see the README's "Scene files").
@@ -563,6 +566,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             Ok(())
         }
         Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
+        Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
         Some(Command::Run { scene, csv, svg }) => run_scene(&scene, &csv, &svg).map(|_| ()),
         None => spin_up(&SpinUpArgs::default()).map(|_| ()),
     }

@@ -7,6 +7,7 @@
 //! - [`compiled`]: the built-in shapes' kernels compiled into this crate, and
 //!   [`evaluated`]: kernels of shapes chosen at run time, on tapes.
 //! - [`scenes`]: the benchmark scenes, written against the public API.
+//! - [`report`]: `ffr report`, work-precision diagrams of the scenes.
 
 pub use ffr_codegen as codegen;
 pub use ffr_macros::*;
@@ -19,6 +20,7 @@ pub mod evaluated;
 pub mod output;
 pub mod plot;
 pub mod reference;
+pub mod report;
 pub mod scene;
 pub mod scenes;
 
