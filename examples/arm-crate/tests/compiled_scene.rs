@@ -17,7 +17,10 @@ fn compiled_scene_runs_bit_for_bit_like_ffr_run() {
     let loaded = ffr::scene::load(&path).unwrap();
     // The compiled scene runs its own kernels.
     assert!(
-        compiled.kernels.iter().any(|(_, k)| k == "compiled (scene)"),
+        compiled
+            .kernels
+            .iter()
+            .any(|(_, k)| k == "compiled (scene)"),
         "{:?}",
         compiled.kernels
     );
@@ -28,7 +31,10 @@ fn compiled_scene_runs_bit_for_bit_like_ffr_run() {
     assert_eq!(a.names, ["hand_x", "hand_y", "elbow_bend"]);
     assert_eq!(a.t.len(), 501);
     let bits = |r: &ffr::scene::SceneRun| -> Vec<u64> {
-        r.t.iter().chain(r.columns.iter().flatten()).map(|x| x.to_bits()).collect()
+        r.t.iter()
+            .chain(r.columns.iter().flatten())
+            .map(|x| x.to_bits())
+            .collect()
     };
     assert_eq!(bits(&a), bits(&b));
     // The arm moved (the comparison is not of two resting arms).
