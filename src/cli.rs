@@ -50,6 +50,11 @@ pub enum Command {
         /// Where to write the SVG plot (default: next to the CSV).
         #[arg(long)]
         svg: Option<PathBuf>,
+        /// Run every flexible body on the general kernels (spatial scene,
+        /// free frame) instead of those specialized for the scene
+        /// (comparisons).
+        #[arg(long)]
+        general: bool,
     },
     /// Print the generated Rust: element kernels of a shape, a body with a
     /// fixed mesh (`--elements`), or every flexible body of a scene (`--scene`).
@@ -419,8 +424,13 @@ pub fn run_scene(
     path: &Path,
     csv: &Option<PathBuf>,
     svg: &Option<PathBuf>,
+    general: bool,
 ) -> Result<crate::scene::SceneRun, Box<dyn std::error::Error>> {
-    let scene = crate::scene::load(path)?;
+    let scene = if general {
+        crate::scene::load_with(path, &crate::scene::GeneralKernels)?
+    } else {
+        crate::scene::load(path)?
+    };
     let tag = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -567,7 +577,12 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         }
         Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
         Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
-        Some(Command::Run { scene, csv, svg }) => run_scene(&scene, &csv, &svg).map(|_| ()),
+        Some(Command::Run {
+            scene,
+            csv,
+            svg,
+            general,
+        }) => run_scene(&scene, &csv, &svg, general).map(|_| ()),
         None => spin_up(&SpinUpArgs::default()).map(|_| ()),
     }
 }

@@ -135,3 +135,47 @@ fn specialized_kernels_are_refused_where_the_frame_can_accelerate() {
         .unwrap();
     sys.initial_state(0.0).unwrap();
 }
+
+/// Every built-in scene run on the kernels `ffr run` picks for it and on the
+/// general kernels (spatial scene, free frame; `ffr run --general`) gives
+/// the same outputs to round-off: what specialization leaves out is exactly
+/// zero in that scene (measured: identical bits). Each output is compared
+/// relative to its largest magnitude over the run.
+#[test]
+fn built_in_scenes_give_the_general_kernels_results() {
+    use ffr::scene::{self, DefaultKernels, GeneralKernels};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    for name in ["spin_up", "pendulum", "free_floating", "two_link_arm"] {
+        let path = root.join(format!("{name}.toml"));
+        let mut special = scene::load_with(&path, &DefaultKernels).unwrap();
+        let mut general = scene::load_with(&path, &GeneralKernels).unwrap();
+        // A short stretch of each scene is enough to exercise every term.
+        for s in [&mut special, &mut general] {
+            s.t_end = s.t_end.min(200.0 * s.dt);
+        }
+        assert!(
+            general
+                .kernels
+                .iter()
+                .all(|(_, k)| k != "compiled" && (k == "rigid" || k == "compiled, general")),
+            "{:?}",
+            general.kernels
+        );
+        let (a, b) = (scene::run(&special).unwrap(), scene::run(&general).unwrap());
+        assert!(a.failed.is_none() && b.failed.is_none());
+        assert_eq!(a.t.len(), b.t.len());
+        for ((n, x), y) in a.names.iter().zip(&a.columns).zip(&b.columns) {
+            let scale = x
+                .iter()
+                .fold(0.0f64, |m, v| m.max(v.abs()))
+                .max(f64::MIN_POSITIVE);
+            let diff = x
+                .iter()
+                .zip(y)
+                .map(|(p, q)| (p - q).abs())
+                .fold(0.0, f64::max);
+            println!("{name} {n}: {:.1e} of {scale:.3e}", diff / scale);
+            assert!(diff <= 1e-8 * scale, "{name} {n}: {diff:e} of {scale:e}");
+        }
+    }
+}

@@ -129,6 +129,36 @@ pub trait KernelProvider {
 /// specialized kernels.
 pub struct DefaultKernels;
 
+/// The general kernels whatever the scene: a spatial scene and a free
+/// frame, the body every scene could use (for comparisons with what
+/// [`DefaultKernels`] specializes; `ffr run --general`).
+pub struct GeneralKernels;
+
+impl KernelProvider for GeneralKernels {
+    fn kernels(
+        &self,
+        spec: &FlexSpec,
+    ) -> Result<(Box<dyn ElementKernels>, &'static str), Box<dyn std::error::Error>> {
+        let m = &spec.model;
+        if let Some(k) =
+            crate::compiled::builtin(&spec.beam.shape, 3, true, m.formalism, m.stiffening)
+        {
+            return Ok((Box::new(Kernels::Compiled(k)), "compiled, general"));
+        }
+        let shape = crate::codegen::Shape::resolve(&spec.beam.shape, None)?;
+        let model = crate::codegen::KernelModel {
+            scene_dim: shape.dimension.max(3),
+            shape,
+            formalism: m.formalism,
+            stiffening: m.stiffening,
+            free_frame: true,
+            zero_frame_acceleration: false,
+        };
+        let k = Kernels::Tape(Box::new(crate::evaluated::TapeKernels::new(&model)?));
+        Ok((Box::new(k), "tape, general"))
+    }
+}
+
 impl KernelProvider for DefaultKernels {
     fn kernels(
         &self,

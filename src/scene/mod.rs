@@ -7,7 +7,7 @@ pub mod load;
 pub mod run;
 
 pub use load::{
-    from_str, load, load_with, DefaultKernels, EnergyPart, FlexSpec, KernelProvider, Output,
-    OutputKind, Scene, SceneError,
+    from_str, load, load_with, DefaultKernels, EnergyPart, FlexSpec, GeneralKernels,
+    KernelProvider, Output, OutputKind, Scene, SceneError,
 };
 pub use run::{run, SceneRun};
