@@ -1,6 +1,8 @@
 //! The scene files shipped in `scenes/`: each runs, and each reproduces a
 //! physical property or a published solution by an independent route.
 
+mod common;
+use common::outputs::{col, last, rel, run};
 use ffr::scene::{self, Scene, SceneRun};
 use ffr::scenes::slider_crank::{
     beam_init, beam_rod, simulate_beam, BeamField, RodElastic, PUBLISHED, SIMEON_INIT, T_END,
@@ -8,25 +10,6 @@ use ffr::scenes::slider_crank::{
 
 fn load(name: &str) -> Scene {
     scene::load(&scene::load::builtin_dir().join(name)).unwrap()
-}
-
-fn run(s: &Scene) -> SceneRun {
-    let r = scene::run(s).unwrap();
-    assert!(r.failed.is_none(), "{:?}", r.failed);
-    r
-}
-
-fn col<'a>(r: &'a SceneRun, name: &str) -> &'a [f64] {
-    let i = r.names.iter().position(|n| n == name).unwrap();
-    &r.columns[i]
-}
-
-fn last(r: &SceneRun, name: &str) -> f64 {
-    *col(r, name).last().unwrap()
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    (a - b) / b.abs()
 }
 
 /// `scenes/slider_crank.toml` is the library's slider-crank (8 beam2

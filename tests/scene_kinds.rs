@@ -4,7 +4,9 @@
 //! free rigid body's exact motion, the constraint equations held to the
 //! Newton tolerance.
 
-use ffr::scene::{self, Scene, SceneRun};
+mod common;
+use common::outputs::{col, last, rel, run};
+use ffr::scene::{self, Scene};
 use ffr::scenes::pendulum::constraint_violation;
 use std::f64::consts::PI;
 use std::ops::ControlFlow;
@@ -13,25 +15,6 @@ use std::path::Path;
 fn load(text: &str) -> Scene {
     scene::from_str(text, "test.toml", Path::new("."), &scene::DefaultKernels)
         .unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn run(s: &Scene) -> SceneRun {
-    let r = scene::run(s).unwrap();
-    assert!(r.failed.is_none(), "{:?}", r.failed);
-    r
-}
-
-fn col<'a>(r: &'a SceneRun, name: &str) -> &'a [f64] {
-    let i = r.names.iter().position(|n| n == name).unwrap();
-    &r.columns[i]
-}
-
-fn last(r: &SceneRun, name: &str) -> f64 {
-    *col(r, name).last().unwrap()
-}
-
-fn rel(a: f64, b: f64) -> f64 {
-    (a - b) / b.abs()
 }
 
 /// The largest `‖Φ‖∞` (position) over a run of the scene's system.
