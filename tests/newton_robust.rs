@@ -1,6 +1,6 @@
 //! Generalized-α steps that Newton cannot finish from the extrapolating
 //! predictor: a motor torque on a flexible link's frame excites its stiffest
-//! local modes (the consistent mass gives the clamped node almost no rotary
+//! local modes (the consistent mass gives the clamped node little rotary
 //! inertia), so accelerations ring at 10⁵ rad/s² and change sign every step.
 //! The integrator restarts such a step from rest and, if that fails too,
 //! halves it; it never accepts an iterate on a contraction estimate taken
@@ -134,17 +134,48 @@ fn wild_iterates_are_never_accepted() {
     assert!((coarse[0] - fine[0]).abs() < 1e-3, "{coarse:?} vs {fine:?}");
 }
 
-/// A PD motor on a link's frame with no hub: no step size helps; the error
-/// says that the step was restarted and halved, and what to look for. With
-/// a hub body carrying the motor the same arm runs.
+/// A PD motor on a flexible link's frame with no hub body runs, and
+/// converges as the step shrinks (measured: hand x −0.357663, −0.357668,
+/// −0.357704, −0.357764 m at dt = 2e-3, 1e-3, 5e-4, 2.5e-4 s, with 25, 13, 5
+/// and 0 restarted steps). It used to end in `StepFailed` at every step
+/// size, which was blamed on the clamped node's small inertia; the cause was
+/// the Newton test: a multiplier of a joint that carries almost no force has
+/// no scale of its own, its round-off updates never passed, and the steps
+/// were refused with residuals of 1e-28. A hub body carrying the motor
+/// changes the arm (its inertia), not whether it runs.
 #[test]
-fn when_nothing_helps_the_error_points_at_the_cause() {
+fn a_pd_motor_on_a_flexible_links_frame_runs_without_a_hub() {
     let pd = "{ target = { angle = \"harmonic\", start = -1.5707963267948966, amplitude = 0.3, frequency = 1.0 }, kp = 50.0, kd = 2.0 }";
-    let err = last(&two_links(pd, false), 2e-3).unwrap_err();
-    assert!(
-        err.contains("restarted from rest and halved 8 times") && err.contains("hub"),
-        "{err}"
-    );
+    let (coarse, restarts) = last(&two_links(pd, false), 2e-3).unwrap();
+    let (fine, _) = last(&two_links(pd, false), 2.5e-4).unwrap();
+    println!("hand x at 1 s: {coarse:?} (dt 2e-3, {restarts} restarts), {fine:?} (dt 2.5e-4)");
+    assert!((coarse[0] - fine[0]).abs() < 3e-4, "{coarse:?} vs {fine:?}");
     let (hub, _) = last(&two_links(pd, true), 2e-3).unwrap();
     assert!(hub[0].abs() < 0.5, "{hub:?}");
+}
+
+/// When nothing helps (here: Newton allowed a single iteration, so no step
+/// can converge), the error says that the step was restarted from rest and
+/// halved 8 times, down to which step, and what to look for.
+#[test]
+fn when_nothing_helps_the_error_says_what_was_tried() {
+    use ffr::runtime::{GeneralizedAlpha, Integrator};
+    let mut scene = from_str(LINK, "robust.toml", Path::new("."), &DefaultKernels).unwrap();
+    scene.integrator = Integrator::GeneralizedAlpha(GeneralizedAlpha {
+        max_iter: 1,
+        ..GeneralizedAlpha::default()
+    });
+    let err = run(&scene)
+        .map_err(|e| e.to_string())
+        .and_then(|r| match r.failed {
+            Some(f) => Err(f),
+            None => Ok(()),
+        });
+    let err = err.unwrap_err();
+    assert!(
+        err.contains("restarted from rest and halved 8 times")
+            && err.contains("dt = 7.8125e-6")
+            && err.contains("almost no inertia"),
+        "{err}"
+    );
 }

@@ -633,6 +633,8 @@ fn ga_step<B: Body>(
     let mut prev_theta = f64::INFINITY;
     // Smallest update seen in this step (round-off detection).
     let mut least = f64::INFINITY;
+    // Smallest multiplier update (scaled) seen in this step.
+    let mut least_l = f64::INFINITY;
     let mut fresh = false;
     let mut since_fresh = 0usize;
     let mut res_norm = f64::NAN;
@@ -721,14 +723,17 @@ fn ga_step<B: Body>(
             let k = w.coord_class[c] as usize;
             err = err.max((bp * w.lin.x[c]).abs() / coord_scale(g, w, c, k, bp, all_max));
         }
+        let err_q = err;
+        let mut err_l = 0.0f64;
         for k in 0..m {
             let cl = w.mult_class[k] as usize;
             let l = (w.lam[k] * bp).abs();
             let sc = g.rtol * (l + w.class_max[cl] + 1e-6 * all_lam)
                 + ROUNDOFF * (l + w.class_max[cl])
                 + f64::MIN_POSITIVE;
-            err = err.max((bp * w.lin.x[n + k]).abs() / sc);
+            err_l = err_l.max((bp * w.lin.x[n + k]).abs() / sc);
         }
+        err = err.max(err_l);
         // Converged: this update was within tolerance, or the contraction
         // says what is left after it is (θ/(1 − θ) · err). The estimate is
         // trusted only in Newton's convergent regime: the update is already
@@ -746,7 +751,22 @@ fn ga_step<B: Body>(
         // alternate a larger and a smaller noise update forever (each
         // smaller than half the one before it, never below the tolerance).
         let stalled = since_fresh >= 1 && err >= 0.5 * least && err <= 1e6;
-        if err <= 1.0 || (estimate_valid && err * theta / (1.0 - theta) <= 1.0) || stalled {
+        // Multipliers whose joint carries no force (the normalization of a
+        // free body's Euler parameters, a joint at rest) have no scale of
+        // their own: their updates are the noise of the solve, arbitrarily
+        // many times their ~0 value. When the coordinates are within
+        // tolerance and the multiplier updates have stopped shrinking after
+        // a fresh matrix, Newton has nothing left to do (the residual is
+        // linear in the multipliers: a real multiplier error would be gone
+        // after one iteration on a fresh matrix).
+        let multipliers_stalled =
+            m > 0 && err_q <= 1.0 && since_fresh >= 1 && err_l >= 0.5 * least_l;
+        least_l = least_l.min(err_l);
+        if err <= 1.0
+            || (estimate_valid && err * theta / (1.0 - theta) <= 1.0)
+            || stalled
+            || multipliers_stalled
+        {
             for c in 0..n {
                 w.acc[c] = (w.a[c] * (1.0 - af) + s.a[c] * af - w.acc[c] * am) / (1.0 - am);
             }
