@@ -137,12 +137,11 @@ fn wild_iterates_are_never_accepted() {
 /// A PD motor on a flexible link's frame with no hub body runs, and
 /// converges as the step shrinks (measured: hand x −0.357663, −0.357668,
 /// −0.357704, −0.357764 m at dt = 2e-3, 1e-3, 5e-4, 2.5e-4 s, with 25, 13, 5
-/// and 0 restarted steps). It used to end in `StepFailed` at every step
-/// size, which was blamed on the clamped node's small inertia; the cause was
-/// the Newton test: a multiplier of a joint that carries almost no force has
-/// no scale of its own, its round-off updates never passed, and the steps
-/// were refused with residuals of 1e-28. A hub body carrying the motor
-/// changes the arm (its inertia), not whether it runs.
+/// and 0 restarted steps). It ended in `StepFailed` at every step size
+/// until steps whose coordinates were within tolerance and whose multiplier
+/// updates had stopped shrinking after a fresh matrix were accepted as
+/// converged (multiplier round-off). A hub body carrying the motor changes
+/// the arm (its inertia), not whether it runs.
 #[test]
 fn a_pd_motor_on_a_flexible_links_frame_runs_without_a_hub() {
     let pd = "{ target = { angle = \"harmonic\", start = -1.5707963267948966, amplitude = 0.3, frequency = 1.0 }, kp = 50.0, kd = 2.0 }";
