@@ -215,7 +215,7 @@ fn eigenpairs(
         let mu = eig.eigenvalues[i];
         if mu.is_nan() || mu <= 0.0 {
             return Err(ModalError::NotDefinite(format!(
-                "the mass {what} is not positive definite (eigenvalue {mu:e} of L⁻¹ M L⁻ᵀ)"
+                "the mass matrix of the eigenproblem with stiffness {what} is not positive definite (eigenvalue {mu:e} of L⁻¹ M L⁻ᵀ): a coordinate carries no mass (e.g. the nodal rotations of the lumped formalism), so some frequencies are infinite; reduce the consistent-formalism body"
             )));
         }
         let y = eig.eigenvectors.column(i).into_owned();
