@@ -43,9 +43,15 @@ pub enum Command {
         body: BodyArgs,
         #[command(flatten)]
         params: ParamArgs,
-        /// Number of modes, lowest first (default: every elastic mode).
+        /// Number of modes, lowest first (default: every elastic mode; with
+        /// --boundary, every fixed-interface mode).
         #[arg(long)]
         count: Option<usize>,
+        /// Craig–Bampton instead of modal truncation: these body nodes
+        /// (0 to N, comma-separated) are the boundary; --count fixed-interface
+        /// modes plus one static constraint mode per boundary coordinate.
+        #[arg(long, value_delimiter = ',')]
+        boundary: Vec<usize>,
         /// Print one JSON object with the modal matrices (otherwise the
         /// frequencies in rad/s and Hz).
         #[arg(long)]
@@ -61,9 +67,13 @@ pub enum Command {
         body: BodyArgs,
         #[command(flatten)]
         params: ParamArgs,
-        /// Number of modes kept (default: every elastic mode).
+        /// Number of modes kept (default: every elastic mode; with
+        /// --boundary, the number of fixed-interface modes, default all).
         #[arg(long)]
         modes: Option<usize>,
+        /// Craig–Bampton with these boundary nodes (as for `modes`).
+        #[arg(long, value_delimiter = ',')]
+        boundary: Vec<usize>,
         /// The file to write (written to a temporary file, then renamed).
         #[arg(long)]
         out: PathBuf,
@@ -602,15 +612,17 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             body,
             params,
             count,
+            boundary,
             json,
-        }) => crate::modal::modes(&body, &params, count, json),
+        }) => crate::modal::modes(&body, &params, count, &boundary, json),
         Some(Command::Export {
             format,
             body,
             params,
             modes,
+            boundary,
             out,
-        }) => crate::modal::export(&format, &body, &params, modes, &out),
+        }) => crate::modal::export(&format, &body, &params, modes, &boundary, &out),
         Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
         Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
         Some(Command::Run { scene, csv, svg }) => run_scene(&scene, &csv, &svg).map(|_| ()),

@@ -119,9 +119,20 @@ impl ModalBody {
         })
     }
 
-    /// Modal truncation to `count` modes (all elastic modes when `None`);
-    /// `flag` names the option in the error for a count out of range.
-    pub fn truncate(&self, count: Option<usize>, flag: &str) -> Result<ModalBasis, Box<dyn Error>> {
+    /// The reduction the command line asks for: modal truncation to `count`
+    /// modes (all elastic modes when `None`), or with `boundary` nodes
+    /// Craig–Bampton with `count` fixed-interface normal modes (all interior
+    /// modes when `None`) and a constraint mode per boundary coordinate.
+    /// `flag` names the count option in errors.
+    pub fn reduce(
+        &self,
+        count: Option<usize>,
+        boundary: &[usize],
+        flag: &str,
+    ) -> Result<ModalBasis, Box<dyn Error>> {
+        if !boundary.is_empty() {
+            return self.craig_bampton(count, boundary, flag);
+        }
         let k = count.unwrap_or(self.available);
         if k == 0 || k > self.available {
             return Err(format!(
@@ -144,6 +155,44 @@ impl ModalBody {
         )?)
     }
 
+    fn craig_bampton(
+        &self,
+        count: Option<usize>,
+        boundary: &[usize],
+        flag: &str,
+    ) -> Result<ModalBasis, Box<dyn Error>> {
+        let n = self.spec.elements;
+        if let Some(bad) = boundary.iter().find(|&&b| b > n) {
+            return Err(
+                format!("--boundary node {bad} out of range: the body has nodes 0 to {n}").into(),
+            );
+        }
+        let nodes: BTreeSet<usize> = boundary.iter().copied().collect();
+        let fixed = self
+            .spec
+            .dofs()
+            .iter()
+            .filter(|d| nodes.contains(&d.node))
+            .count();
+        let interior = self.dofs.len() - fixed;
+        let k = count.unwrap_or(interior);
+        if k > interior {
+            return Err(format!(
+                "{flag} must be at most {interior} with --boundary (the coordinates not on the boundary nodes), found {k}"
+            )
+            .into());
+        }
+        Ok(reduce(
+            &self.spec,
+            &self.params,
+            &self.invariants,
+            &Reduction::CraigBampton {
+                boundary_nodes: nodes.into_iter().collect(),
+                modes: k,
+            },
+        )?)
+    }
+
     /// One line naming the body.
     pub fn description(&self) -> String {
         format!(
@@ -159,8 +208,19 @@ impl ModalBody {
     }
 }
 
-/// The reduction as the JSON object of `ffr modes --json`: `omega` (rad/s),
-/// `hz`, `labels`, `dofs`, `phi` (n_f rows of k), `modal_mass`,
+/// What the basis is: `modal truncation` or `Craig-Bampton`.
+fn reduction_name(basis: &ModalBasis) -> &'static str {
+    if basis.frequencies.len() < basis.len() {
+        "Craig-Bampton"
+    } else {
+        "modal truncation"
+    }
+}
+
+/// The reduction as the JSON object of `ffr modes --json`: `reduction`,
+/// `omega` (rad/s) and `hz` of the normal modes, `labels` of every mode
+/// (normal modes first, then Craig–Bampton's constraint modes
+/// `constraint_<dof>`), `dofs`, `phi` (n_f rows of k), `modal_mass`,
 /// `modal_stiffness` (k × k) and `invariants`, the projected invariants keyed
 /// like `ffr invariants --json` (with `dofs` the mode labels).
 pub fn modes_json(body: &ModalBody, basis: &ModalBasis) -> Value {
@@ -172,7 +232,7 @@ pub fn modes_json(body: &ModalBody, basis: &ModalBasis) -> Value {
     let projected = body.invariants.project(&basis.phi);
     json!({
         "body": body.description(),
-        "reduction": "modal truncation",
+        "reduction": reduction_name(basis),
         "omega": basis.frequencies,
         "hz": basis.frequencies.iter().map(|w| w / std::f64::consts::TAU).collect::<Vec<_>>(),
         "labels": basis.labels,
@@ -189,25 +249,36 @@ pub fn modes(
     body: &BodyArgs,
     params: &ParamArgs,
     count: Option<usize>,
+    boundary: &[usize],
     json: bool,
 ) -> Result<(), Box<dyn Error>> {
     let b = ModalBody::new(body, params)?;
-    let basis = b.truncate(count, "--count")?;
+    let basis = b.reduce(count, boundary, "--count")?;
     if json {
         println!("{}", serde_json::to_string(&modes_json(&b, &basis))?);
         return Ok(());
     }
     println!("{}", b.description());
-    println!(
-        "modal truncation: the {} lowest modes of K_ff φ = ω² m_ff φ, mass-normalized{}",
-        basis.len(),
-        if b.spec.reference == Reference::Free {
-            " (rigid-body motions removed)"
-        } else {
-            ""
-        }
-    );
-    println!("{:>5} {:>24} {:>24}", "mode", "omega (rad/s)", "f (Hz)");
+    if boundary.is_empty() {
+        println!(
+            "modal truncation: the {} lowest modes of K_ff φ = ω² m_ff φ, mass-normalized{}",
+            basis.len(),
+            if b.spec.reference == Reference::Free {
+                " (rigid-body motions removed)"
+            } else {
+                ""
+            }
+        );
+    } else {
+        println!(
+            "Craig-Bampton: {} fixed-interface normal modes (boundary nodes fixed), mass-normalized, and {} static constraint modes",
+            basis.frequencies.len(),
+            basis.len() - basis.frequencies.len()
+        );
+    }
+    if !basis.frequencies.is_empty() {
+        println!("{:>5} {:>24} {:>24}", "mode", "omega (rad/s)", "f (Hz)");
+    }
     for (j, w) in basis.frequencies.iter().enumerate() {
         println!(
             "{:>5} {:>24} {:>24}",
@@ -216,21 +287,26 @@ pub fn modes(
             output::number(w / std::f64::consts::TAU)
         );
     }
+    let constraint = &basis.labels[basis.frequencies.len()..];
+    if !constraint.is_empty() {
+        println!("constraint modes: {}", constraint.join(" "));
+    }
     Ok(())
 }
 
-/// `ffr export`: write the body reduced to `count` modes (all when `None`)
-/// in `format` (`mbdyn-fem` or `sid`) to `out`, atomically.
+/// `ffr export`: write the body reduced as [`ModalBody::reduce`] says in
+/// `format` (`mbdyn-fem` or `sid`) to `out`, atomically.
 pub fn export(
     format: &str,
     body: &BodyArgs,
     params: &ParamArgs,
     count: Option<usize>,
+    boundary: &[usize],
     out: &Path,
 ) -> Result<(), Box<dyn Error>> {
     output::check_file_path(out, "--out")?;
     let b = ModalBody::new(body, params)?;
-    let basis = b.truncate(count, "--modes")?;
+    let basis = b.reduce(count, boundary, "--modes")?;
     let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
     let text = match format {
         "mbdyn-fem" => mbdyn_fem(&e),
@@ -240,9 +316,10 @@ pub fn export(
     output::write_atomic(out, text.as_bytes())?;
     println!("{}", b.description());
     println!(
-        "wrote {} ({format}, {} modes by modal truncation)",
+        "wrote {} ({format}, {} modes, {})",
         out.display(),
-        basis.len()
+        basis.len(),
+        reduction_name(&basis)
     );
     Ok(())
 }

@@ -582,6 +582,92 @@ fn sid_reads_back() {
 }
 
 #[test]
+fn craig_bampton_from_the_command_line() {
+    // Clamped at node 0, boundary node 16 (ux, uy, rz) fixed: the
+    // fixed-interface modes are those of a clamped-clamped beam, whose βL are
+    // the free-free roots.
+    let mut a = body_args_with("modes", "beam2", "16", "clamped", &SLENDER);
+    a.extend(["--boundary", "16", "--count", "2", "--json"]);
+    let m = json_of(&a);
+    assert_eq!(m["reduction"], "Craig-Bampton");
+    let omega = vec_of(&m["omega"]);
+    assert_eq!(omega.len(), 2);
+    for (i, e) in rel_errors(&omega, &FREE_BETA_L).iter().enumerate() {
+        assert!(*e < 1e-4, "clamped-clamped mode {}: {e:e}", i + 1);
+    }
+    assert_eq!(
+        strings(&m["labels"]),
+        [
+            "mode_1",
+            "mode_2",
+            "constraint_ux_16",
+            "constraint_uy_16",
+            "constraint_rz_16"
+        ]
+    );
+    let phi = mat_of(&m["phi"]);
+    let dofs = strings(&m["dofs"]);
+    let b: Vec<usize> = ["ux_16", "uy_16", "rz_16"]
+        .iter()
+        .map(|d| dofs.iter().position(|x| x == d).unwrap())
+        .collect();
+    // Normal modes vanish at the boundary; constraint mode c is 1 at its own
+    // boundary coordinate and 0 at the others.
+    for (c, &i) in b.iter().enumerate() {
+        for j in 0..2 {
+            assert_eq!(phi[i][j], 0.0);
+        }
+        for (c2, &i2) in b.iter().enumerate() {
+            assert_eq!(phi[i2][2 + c], f64::from(c == c2));
+        }
+    }
+    // Constraint modes are static: K_ff ψ has no interior force (K_ff from
+    // `ffr invariants`, the element kernels).
+    let mut inv_args = body_args_with("invariants", "beam2", "16", "clamped", &SLENDER);
+    inv_args.push("--json");
+    let kff = mat_of(&json_of(&inv_args)["Kff"]);
+    let kpsi = mul(&kff, &phi);
+    for c in 2..5 {
+        let scale = (0..phi.len())
+            .map(|i| {
+                (0..phi.len())
+                    .map(|j| (kff[i][j] * phi[j][c]).abs())
+                    .sum::<f64>()
+            })
+            .fold(0.0, f64::max);
+        for (i, row) in kpsi.iter().enumerate() {
+            if !b.contains(&i) {
+                assert!(
+                    row[c].abs() <= 1e-12 * scale,
+                    "row {i} mode {c}: {:e}",
+                    row[c]
+                );
+            }
+        }
+    }
+    // The MBDyn header counts the constraint modes apart.
+    let dir = temp_dir("cb");
+    let path = dir.join("cb.fem");
+    let mut e = body_args_with("export", "beam2", "16", "clamped", &SLENDER);
+    e.extend(["--format", "mbdyn-fem", "--boundary", "16", "--modes", "2"]);
+    e.extend(["--out", path.to_str().unwrap()]);
+    let (ok, _, err) = ffr(&e);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let rec = fem_records(&text);
+    let header = &rec.iter().find(|r| r.0 == 1).unwrap().2[0];
+    assert_eq!(
+        header.split_whitespace().collect::<Vec<_>>(),
+        ["REV0", "17", "2", "0", "3", "0"]
+    );
+    // Node 0 of a clamped body has no coordinates to be a boundary.
+    let (ok, _, err) = ffr(&["modes", "--elements", "4", "--boundary", "0"]);
+    assert!(!ok);
+    assert!(err.contains("no elastic coordinates"), "{err}");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
 fn output_is_byte_identical_across_runs() {
     let dir = temp_dir("det");
     for format in ["mbdyn-fem", "sid"] {
