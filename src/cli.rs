@@ -37,7 +37,7 @@ pub enum Command {
     },
     /// A body's natural frequencies by modal truncation of its exact m_ff,
     /// K_ff (clamped/pinned: eigenmodes; free: elastic modes, rigid motions
-    /// removed); see docs/modal.md.
+    /// removed), or Craig–Bampton with --boundary; see docs/modal.md.
     Modes {
         #[command(flatten)]
         body: BodyArgs,
