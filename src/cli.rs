@@ -35,6 +35,49 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// A body's natural frequencies by modal truncation of its exact m_ff,
+    /// K_ff (clamped/pinned: eigenmodes; free: elastic modes, rigid motions
+    /// removed), or Craig–Bampton with --boundary; see docs/modal.md.
+    Modes {
+        #[command(flatten)]
+        body: BodyArgs,
+        #[command(flatten)]
+        params: ParamArgs,
+        /// Number of modes, lowest first (default: every elastic mode; with
+        /// --boundary, every fixed-interface mode).
+        #[arg(long)]
+        count: Option<usize>,
+        /// Craig–Bampton instead of modal truncation: these body nodes
+        /// (0 to N, comma-separated) are the boundary; --count fixed-interface
+        /// modes plus one static constraint mode per boundary coordinate.
+        #[arg(long, value_delimiter = ',')]
+        boundary: Vec<usize>,
+        /// Print one JSON object with the modal matrices (otherwise the
+        /// frequencies in rad/s and Hz).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Write a body reduced to its lowest modes in a format other engines
+    /// read (MBDyn modal .fem, SID); see docs/export.md.
+    Export {
+        /// Output format.
+        #[arg(long, value_parser = ["mbdyn-fem", "sid"])]
+        format: String,
+        #[command(flatten)]
+        body: BodyArgs,
+        #[command(flatten)]
+        params: ParamArgs,
+        /// Number of modes kept (default: every elastic mode; with
+        /// --boundary, the number of fixed-interface modes, default all).
+        #[arg(long)]
+        modes: Option<usize>,
+        /// Craig–Bampton with these boundary nodes (as for `modes`).
+        #[arg(long, value_delimiter = ',')]
+        boundary: Vec<usize>,
+        /// The file to write (written to a temporary file, then renamed).
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Run the spin-up beam benchmark (the main job).
     SpinUp(SpinUpArgs),
     /// Work-precision report of the benchmark scenes (report.md, points.csv,
@@ -575,6 +618,21 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             print!("{text}");
             Ok(())
         }
+        Some(Command::Modes {
+            body,
+            params,
+            count,
+            boundary,
+            json,
+        }) => crate::modal::modes(&body, &params, count, &boundary, json),
+        Some(Command::Export {
+            format,
+            body,
+            params,
+            modes,
+            boundary,
+            out,
+        }) => crate::modal::export(&format, &body, &params, modes, &boundary, &out),
         Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
         Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
         Some(Command::Run {

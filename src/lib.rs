@@ -17,6 +17,7 @@ pub use nalgebra;
 pub mod cli;
 pub mod compiled;
 pub mod evaluated;
+pub mod modal;
 pub mod output;
 pub mod plot;
 pub mod reference;

@@ -21,9 +21,13 @@ pub mod emit;
 pub mod energy;
 pub mod eom;
 pub mod error;
+#[cfg(feature = "modal")]
+pub mod export;
 pub mod expr;
 pub mod kernel;
 pub mod limits;
+#[cfg(feature = "modal")]
+pub mod modal;
 pub mod poly;
 pub mod program;
 pub mod sanitize;
