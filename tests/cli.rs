@@ -1,28 +1,10 @@
 //! The `ffr` command line: JSON invariants, emitted code, the spin-up job,
 //! and clear errors with a non-zero exit for bad arguments.
 
+mod common;
+use common::cli::ffr;
 use serde_json::Value;
 use std::process::Command;
-
-fn ffr(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_ffr"))
-        .args(args)
-        .output()
-        .expect("run ffr");
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
-    // Errors exit 1 (ours) or 2 (argument syntax, from clap); 101 is a panic.
-    assert!(
-        matches!(out.status.code(), Some(0..=2)),
-        "{args:?}: {:?}",
-        out.status
-    );
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr,
-    )
-}
 
 /// A fresh temporary directory for one test.
 fn temp_dir(tag: &str) -> std::path::PathBuf {

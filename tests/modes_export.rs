@@ -5,29 +5,10 @@
 //! `ffr invariants --json`, byte-identical output across runs, and clear
 //! errors that leave no half-written file.
 
+mod common;
+use common::cli::ffr;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn ffr(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_ffr"))
-        .args(args)
-        .output()
-        .expect("run ffr");
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
-    // Errors exit 1 (ours) or 2 (argument syntax, from clap); 101 is a panic.
-    assert!(
-        matches!(out.status.code(), Some(0..=2)),
-        "{args:?}: {:?}",
-        out.status
-    );
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr,
-    )
-}
 
 fn temp_dir(tag: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("ffr-modes-{tag}-{}", std::process::id()));

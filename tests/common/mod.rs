@@ -98,4 +98,5 @@ pub fn mechanism(dim: usize) -> System<Box<dyn Body>> {
     sys.set_gravity(Vector3::new(0.0, -9.81, 0.0)).unwrap();
     sys
 }
+pub mod cli;
 pub mod outputs;
