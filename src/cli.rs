@@ -40,6 +40,9 @@ pub enum Command {
     /// Work-precision report of the benchmark scenes (report.md, points.csv,
     /// one SVG per scene; see docs/report.md).
     Report(crate::report::ReportArgs),
+    /// Stiff and extreme cases, each with its check (stability.md; exits
+    /// non-zero if a case fails; see docs/stability.md).
+    Stability(crate::stability::StabilityArgs),
     /// Run a scene file.
     Run {
         /// The scene file (TOML; see the README's "Scene files").
@@ -567,6 +570,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         }
         Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
         Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
+        Some(Command::Stability(args)) => crate::stability::run(&args).map(|_| ()),
         Some(Command::Run { scene, csv, svg }) => run_scene(&scene, &csv, &svg).map(|_| ()),
         None => spin_up(&SpinUpArgs::default()).map(|_| ()),
     }
