@@ -1,7 +1,10 @@
 //! The cases of `ffr stability`. Every case runs the library's scenes
 //! ([`crate::scenes`]); none integrates anything of its own. The quick
-//! suite has the same cases as the full one with shorter runs (and the long
-//! run at 1e4 steps instead of 1e6).
+//! suite has the same cases as the full one with shorter runs (the long
+//! runs at 1e4 steps instead of 1e6), less the two cases that fail
+//! (`free-spin-1e3-alpha`, `long-run-spatial-rho1`: see docs/stability.md),
+//! so that CI, which runs it, stays green while the failures are reported by
+//! the full suite.
 
 use super::{Budget, Case, Outcome, Verdict};
 use crate::runtime::nalgebra::Vector3;
@@ -112,7 +115,13 @@ pub fn suite(full: bool) -> Vec<Case> {
     }
     c.push(small_step(full));
     c.push(large_step());
-    c.push(long_run(full));
+    c.push(long_run(Beam::Beam2, 1.0, full));
+    if full {
+        // Fails: the velocity constraint violation grows without numerical
+        // damping (docs/stability.md); full suite only.
+        c.push(long_run(Beam::Beam3, 1.0, full));
+    }
+    c.push(long_run(Beam::Beam3, 0.8, full));
     // -------------------------------------------------- degenerate inertia
     c.push(lumped());
     c.push(free_reference());
@@ -563,20 +572,31 @@ fn large_step() -> Case {
     )
 }
 
-fn long_run(full: bool) -> Case {
+/// A pendulum of `beam` (2 elements) at dt 1e-3 s with `rho_inf` for 1e6
+/// steps (1e4 in the quick suite).
+fn long_run(beam: Beam, rho_inf: f64, full: bool) -> Case {
     let n: usize = if full { 1_000_000 } else { 10_000 };
     let dt = 1e-3;
     let t_end = n as f64 * dt;
+    let (name, what) = match beam {
+        Beam::Beam2 => ("long-run".to_string(), "pendulum (2 × beam2"),
+        Beam::Beam3 => (
+            format!("long-run-spatial-rho{rho_inf}"),
+            "spatial pendulum (2 × beam3, Euler parameters, spatial revolute",
+        ),
+    };
     Case::new(
-        "long-run",
-        format!("pendulum (2 × beam2, ρ∞ 1, dt 1e-3 s) for {n} steps ({t_end} s): drift of energy and constraints over a long run"),
-        "energy drift ≤ 1e-2 E_ref, ‖Φ‖∞ ≤ 1e-8 m, ‖Φ̇‖∞ ≤ 1e-2 m/s",
+        name,
+        format!("{what}, ρ∞ {rho_inf}, dt 1e-3 s) for {n} steps ({t_end} s): drift of energy and constraints over a long run"),
+        "energy drift ≤ 1e-2 E_ref, ‖Φ‖∞ ≤ 1e-8, ‖Φ̇‖∞ ≤ 1e-2 m/s",
         if full { 1200.0 } else { 60.0 },
         move |b| {
             let args = PendulumArgs {
+                beam,
                 elements: 2,
                 t_end,
                 dt,
+                rho_inf,
                 ..PendulumArgs::default()
             };
             let r = pendulum_run(&args, ALUMINIUM_BAR, b)?;
@@ -744,7 +764,8 @@ mod tests {
         names.sort();
         names.dedup();
         assert_eq!(names.len(), n);
-        // The quick suite is the full one less generalized-α's free spin.
-        assert_eq!(super::quick().len(), n - 1);
+        // The quick suite is the full one less the two known failures
+        // (generalized-α's free spin, the undamped spatial long run).
+        assert_eq!(super::quick().len(), n - 2);
     }
 }
