@@ -83,6 +83,9 @@ pub enum Command {
     /// Work-precision report of the benchmark scenes (report.md, points.csv,
     /// one SVG per scene; see docs/report.md).
     Report(crate::report::ReportArgs),
+    /// Stiff and extreme cases, each with its check (stability.md; exits
+    /// non-zero if a case fails; see docs/stability.md).
+    Stability(crate::stability::StabilityArgs),
     /// Run a scene file.
     Run {
         /// The scene file (TOML; see the README's "Scene files").
@@ -635,6 +638,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         }) => crate::modal::export(&format, &body, &params, modes, &boundary, &out),
         Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
         Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
+        Some(Command::Stability(args)) => crate::stability::run(&args).map(|_| ()),
         Some(Command::Run {
             scene,
             csv,

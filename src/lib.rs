@@ -24,6 +24,7 @@ pub mod reference;
 pub mod report;
 pub mod scene;
 pub mod scenes;
+pub mod stability;
 
 pub use compiled::{BeamSpec, FrameModel, Kernels};
 pub use evaluated::TapeKernels;

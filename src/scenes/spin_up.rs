@@ -208,6 +208,16 @@ pub fn system(
 /// Divergence (|tip| > L) or an integrator failure stops the run and is
 /// reported in [`SpinUpResult::diverged`]; bad input is an `Err`.
 pub fn run(cfg: &SpinUp) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
+    run_with(cfg, |_| ControlFlow::Continue(()))
+}
+
+/// [`run`] with `stop` asked after every step whether to go on (a time
+/// limit; a stopped run is reported as far as it went, with
+/// [`SpinUpResult::steps`] short of the full run and no divergence).
+pub fn run_with(
+    cfg: &SpinUp,
+    mut stop: impl FnMut(f64) -> ControlFlow<()>,
+) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
     let (sys, probe) = system(cfg)?;
     let length = cfg.params.length;
     let tip = crate::runtime::Body::point_shape(&probe, length)?;
@@ -246,7 +256,7 @@ pub fn run(cfg: &SpinUp) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
             });
             return ControlFlow::Break(());
         }
-        ControlFlow::Continue(())
+        stop(v.state.t)
     });
     res.wall = start.elapsed().as_secs_f64();
     match run {
