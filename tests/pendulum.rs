@@ -75,24 +75,38 @@ fn spatial_pendulum_conserves_energy_to_second_order_and_holds_the_joint() {
     assert!((3.0..8.0).contains(&ratio), "second order: ratio {ratio}");
     // Newton tolerance (measured 5e-16).
     assert!(fine.max_phi < 1e-9, "{fine:?}");
-    // Velocity constraints: O(dt²) integration error.
-    assert!(fine.max_phi_dot < 2e-4, "{fine:?}");
-    let ratio = coarse.max_phi_dot / fine.max_phi_dot;
-    assert!((3.0..6.0).contains(&ratio), "Φ̇ second order: ratio {ratio}");
+    // Velocity constraints: every step removes the Euler-parameter rates'
+    // component along e (it carried all of the O(dt²) violation, 1e-4 m/s
+    // before), which leaves Φ̇ at round-off (measured 3.3e-16, 4.4e-16).
+    assert!(
+        coarse.max_phi_dot < 1e-12 && fine.max_phi_dot < 1e-12,
+        "{coarse:?} {fine:?}"
+    );
 }
 
 /// `ρ∞ < 1` damps the unresolved high frequencies: the energy then decreases
 /// secularly (measured −4.0e-7 E_ref after 1 s at ρ∞ = 0.8, dt = 1e-3 s, in
-/// plane and space), while with `ρ∞ = 1` the energy error only oscillates
-/// with the swing (−1.7e-10 in the plane and −8.6e-10 in space at the end,
-/// for a largest excursion of 1.2e-6 and 4.2e-6).
+/// plane and space), while with `ρ∞ = 1` the energy error is the scheme's
+/// O(dt²) error: −1.7e-10 in the plane at the end (largest excursion
+/// 1.2e-6); in space −3.1e-8 (excursion 4.0e-6), which the projection of
+/// the Euler-parameter rates (every step) shifts from −8.6e-10 and which
+/// falls 5.2× when dt is halved (−1.6e-7 at 2e-3 s).
 #[test]
 fn numerical_dissipation_follows_rho_inf() {
     for beam in [Beam::Beam2, Beam::Beam3] {
         let (lossless, damped) = (pendulum(beam, 1e-3, 1.0), pendulum(beam, 1e-3, 0.8));
         assert!(damped.energy_change < -1e-7, "{beam:?}: {damped:?}");
+        let share = match beam {
+            Beam::Beam2 => 0.01,
+            Beam::Beam3 => {
+                let coarse = pendulum(beam, 2e-3, 1.0);
+                let ratio = coarse.energy_change / lossless.energy_change;
+                assert!(ratio > 3.0, "{beam:?}: O(dt²) error, ratio {ratio}");
+                0.1
+            }
+        };
         assert!(
-            lossless.energy_change.abs() < 0.01 * damped.energy_change.abs(),
+            lossless.energy_change.abs() < share * damped.energy_change.abs(),
             "{beam:?}: ρ∞ = 1 {:e}, ρ∞ = 0.8 {:e}",
             lossless.energy_change,
             damped.energy_change

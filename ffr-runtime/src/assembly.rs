@@ -899,6 +899,21 @@ impl<'s, B: Body> Assembly<'s, B> {
         }
     }
 
+    /// Remove from each body's Euler-parameter rates `ė` their component
+    /// along `e` (`ė ← ė − e (eᵀė)/(eᵀe)`): the velocity form of the
+    /// normalization `eᵀe = 1`. The component is invisible to the motion
+    /// (`ω = Ḡ ė` and `Ḡ e = 0`), so this changes no physical velocity.
+    pub fn project_normalization_rates(&self, q: &[f64], v: &mut [f64]) {
+        for &(i, _) in &self.norm_rows {
+            let o = self.sys.bodies[i].offset + 3;
+            let ee: f64 = (0..4).map(|k| q[o + k] * q[o + k]).sum();
+            let ed: f64 = (0..4).map(|k| q[o + k] * v[o + k]).sum();
+            for k in 0..4 {
+                v[o + k] -= q[o + k] * ed / ee;
+            }
+        }
+    }
+
     /// `Φ_q q̇ + Φ_t` of every row (after the rows were evaluated at `q`).
     pub fn velocity_violation(&self, v: &[f64], q: &[f64], out: &mut [f64]) {
         for &(i, row) in &self.norm_rows {

@@ -774,6 +774,7 @@ fn ga_step<B: Body>(
             w.prev_a.copy_from_slice(&s.a);
             s.t = t1;
             s.q.copy_from_slice(&w.q);
+            asm.project_normalization_rates(&w.q, &mut w.v);
             s.v.copy_from_slice(&w.v);
             s.a.copy_from_slice(&w.a);
             for k in 0..m {
