@@ -2,8 +2,8 @@
 //! `build.rs` (every formalism and stiffening model; planar and spatial
 //! scenes), and the choice between them and run-time tapes.
 
-use crate::evaluated::TapeKernels;
 use crate::runtime::spec::{Formalism, Params, Reference, Stiffening};
+use crate::runtime::tape::TapeKernels;
 use crate::runtime::{
     ElementKernels, KernelBody, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut,
 };

@@ -5,7 +5,8 @@
 //! - [`flex_body`]: the attribute that generates a body at compile time.
 //! - [`runtime`]: the dynamics (bodies, joints, forces, generalized-α, RK4).
 //! - [`compiled`]: the built-in shapes' kernels compiled into this crate, and
-//!   [`evaluated`]: kernels of shapes chosen at run time, on tapes.
+//!   [`TapeKernels`]: kernels of shapes chosen at run time, on tapes
+//!   (`ffr_runtime::tape`).
 //! - [`scenes`]: the benchmark scenes, written against the public API.
 //! - [`report`]: `ffr report`, work-precision diagrams of the scenes.
 
@@ -16,7 +17,6 @@ pub use nalgebra;
 
 pub mod cli;
 pub mod compiled;
-pub mod evaluated;
 pub mod modal;
 pub mod output;
 pub mod plot;
@@ -26,5 +26,5 @@ pub mod scene;
 pub mod scenes;
 pub mod stability;
 
+pub use crate::runtime::tape::TapeKernels;
 pub use compiled::{BeamSpec, FrameModel, Kernels};
-pub use evaluated::TapeKernels;

@@ -1,6 +1,7 @@
 //! Generated element kernels and fixed-mesh bodies compiled at build time
 //! (`build.rs`, the generator's `Builder` with runtime path `::ffr_runtime`;
-//! the list is in [`configs`]), the same programs on tapes ([`tape`]), for
+//! the list is in [`configs`]), the same programs on tapes
+//! (`ffr_runtime::tape`), for
 //! benchmarks (`benches/kernels.rs`) and for the check that the compiled code
 //! computes bit for bit what the tapes compute (`tests/compiled.rs`).
 
@@ -15,7 +16,7 @@ mod registry {
 }
 pub use registry::*;
 
-pub mod tape;
+pub use ffr_runtime::tape;
 
 use ffr_codegen::builder::KernelConfig;
 use ffr_codegen::{generate_kernels, Formalism, KernelSet, Stiffening};

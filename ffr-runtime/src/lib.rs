@@ -26,6 +26,8 @@ pub mod nodal;
 pub mod rigid;
 pub mod rotation;
 pub mod system;
+#[cfg(feature = "tape")]
+pub mod tape;
 
 pub use assembly::Assembly;
 pub use body::{

@@ -154,7 +154,7 @@ impl KernelProvider for GeneralKernels {
             free_frame: true,
             zero_frame_acceleration: false,
         };
-        let k = Kernels::Tape(Box::new(crate::evaluated::TapeKernels::new(&model)?));
+        let k = Kernels::Tape(Box::new(crate::runtime::tape::TapeKernels::new(&model)?));
         Ok((Box::new(k), "tape, general"))
     }
 }
@@ -179,7 +179,7 @@ impl KernelProvider for DefaultKernels {
             free_frame: m.free_frame,
             zero_frame_acceleration: m.zero_frame_acceleration,
         };
-        let k = Kernels::Tape(Box::new(crate::evaluated::TapeKernels::new(&model)?));
+        let k = Kernels::Tape(Box::new(crate::runtime::tape::TapeKernels::new(&model)?));
         let path = k.path();
         Ok((Box::new(k), path))
     }

@@ -2,14 +2,16 @@
 //! shape file without a rebuild, bit for bit the numbers the compiled
 //! kernels give (same programs, same operations in the same order), at the
 //! cost of an interpreter (see the README's speed table). The built-in shapes
-//! use compiled kernels ([`crate::compiled`]); this is the path for a shape
-//! chosen at run time.
+//! use compiled kernels (the `ffr` crate's `compiled` module); this is the
+//! path for a shape chosen at run time, and the reference the compiled
+//! kernels are checked against bit for bit (`ffr-bench`). Feature `tape`
+//! (it needs the generator, `ffr-codegen`).
 
-use crate::codegen::eom::OutArr;
-use crate::codegen::program::{Inputs, Program, Tape};
-use crate::codegen::{generate_kernels, KernelModel, KernelSet};
-use crate::runtime::spec::{Param, Params};
-use crate::runtime::{ElementKernels, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut};
+use crate::spec::Params;
+use crate::{ElementKernels, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut};
+use ffr_codegen::eom::OutArr;
+use ffr_codegen::program::{Inputs, Tape};
+use ffr_codegen::{generate_kernels, KernelModel, KernelSet};
 use std::borrow::Cow;
 
 /// Element kernels evaluated from the generator's programs.
@@ -27,51 +29,63 @@ pub struct TapeKernels {
     point_shape: Tape,
 }
 
-fn tape(p: &Program) -> Tape {
-    p.tape()
-}
-
 impl TapeKernels {
     /// Generate the kernels of `model` and put them on tapes.
-    pub fn new(model: &KernelModel) -> Result<Self, crate::codegen::Error> {
+    pub fn new(model: &KernelModel) -> Result<Self, ffr_codegen::Error> {
         Ok(Self::from_set(&generate_kernels(model)?))
     }
 
     /// Tapes of already generated programs.
     pub fn from_set(set: &KernelSet) -> Self {
         let m = set.model();
-        let progs: Vec<Tape> = set.programs().iter().map(|(_, p)| tape(p)).collect();
-        let scratch = progs
-            .iter()
-            .map(Tape::n_slots)
-            .chain(std::iter::once(set.coefficient_program.tape().n_slots()))
-            .max()
-            .unwrap_or(0);
-        let info = KernelInfo {
-            shape: Cow::Owned(m.shape.name.clone()),
-            dim: m.shape.dimension,
-            scene_dim: m.scene_dim,
-            n_local: set.n(),
-            coordinates: Cow::Owned(m.shape.element_coordinates()),
-            formalism: m.formalism,
-            stiffening: m.stiffening,
-            free_frame: m.free_frame,
-            zero_frame_acceleration: m.zero_frame_acceleration,
-            n_coefficients: set.coefficients.len(),
-            params_used: Cow::Owned(set.params_used()),
-            scratch,
-        };
-        Self {
-            info,
+        let tapes = Self {
+            info: KernelInfo {
+                shape: Cow::Owned(m.shape.name.clone()),
+                dim: m.shape.dimension,
+                scene_dim: m.scene_dim,
+                n_local: set.n(),
+                coordinates: Cow::Owned(m.shape.element_coordinates()),
+                formalism: m.formalism,
+                stiffening: m.stiffening,
+                free_frame: m.free_frame,
+                zero_frame_acceleration: m.zero_frame_acceleration,
+                n_coefficients: set.coefficients.len(),
+                params_used: Cow::Owned(set.params_used()),
+                scratch: 0,
+            },
             coefficients: set.coefficient_program.tape(),
-            mass: tape(&set.mass),
-            residual: set.residual.as_ref().map(tape),
-            tangent: set.tangent.as_ref().map(tape),
-            residual_elastic: tape(&set.residual_elastic),
-            tangent_elastic: tape(&set.tangent_elastic),
-            energy: tape(&set.energy),
-            invariants: tape(&set.element_invariants),
-            point_shape: tape(&set.point_shape),
+            mass: set.mass.tape(),
+            residual: set.residual.as_ref().map(|p| p.tape()),
+            tangent: set.tangent.as_ref().map(|p| p.tape()),
+            residual_elastic: set.residual_elastic.tape(),
+            tangent_elastic: set.tangent_elastic.tape(),
+            energy: set.energy.tape(),
+            invariants: set.element_invariants.tape(),
+            point_shape: set.point_shape.tape(),
+        };
+        // Scratch for the largest tape, the coefficients' included.
+        let scratch = [
+            Some(&tapes.coefficients),
+            Some(&tapes.mass),
+            tapes.residual.as_ref(),
+            tapes.tangent.as_ref(),
+            Some(&tapes.residual_elastic),
+            Some(&tapes.tangent_elastic),
+            Some(&tapes.energy),
+            Some(&tapes.invariants),
+            Some(&tapes.point_shape),
+        ]
+        .into_iter()
+        .flatten()
+        .map(Tape::n_slots)
+        .max()
+        .unwrap_or(0);
+        Self {
+            info: KernelInfo {
+                scratch,
+                ..tapes.info
+            },
+            ..tapes
         }
     }
 }
@@ -104,8 +118,7 @@ impl ElementKernels for TapeKernels {
     fn coefficients(&self, params: &Params, l: f64, c: &mut [f64]) {
         let mut p = [0.0; 9];
         p[..8].copy_from_slice(&params.to_array());
-        p[8] = l;
-        let _ = Param::ElemLength;
+        p[8] = l; // the derived parameter `Param::ElemLength`
         let mut scratch = vec![0.0; self.coefficients.n_slots()];
         run(
             &self.coefficients,
