@@ -4,61 +4,11 @@
 
 use crate::runtime::spec::{Formalism, Params, Reference, Stiffening};
 use crate::runtime::tape::TapeKernels;
-use crate::runtime::{
-    ElementKernels, KernelBody, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut,
-};
+use crate::runtime::{ElementKernels, KernelBody};
 
 include!(concat!(env!("OUT_DIR"), "/builtin.rs"));
 
-impl ElementKernels for BuiltinKernels {
-    fn info(&self) -> &KernelInfo {
-        dispatch!(self, k => k.info())
-    }
-    fn coefficients(&self, params: &Params, l: f64, c: &mut [f64]) {
-        dispatch!(self, k => k.coefficients(params, l, c))
-    }
-    fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut MassOut, s: &mut [f64]) {
-        dispatch!(self, k => k.mass(c, x0, q, out, s))
-    }
-    fn residual(&self, c: &[f64], x: &KernelInput, out: &mut ResidualOut, s: &mut [f64]) {
-        dispatch!(self, k => k.residual(c, x, out, s))
-    }
-    fn tangent(
-        &self,
-        c: &[f64],
-        x: &KernelInput,
-        bp: f64,
-        gp: f64,
-        out: &mut TangentOut,
-        s: &mut [f64],
-    ) {
-        dispatch!(self, k => k.tangent(c, x, bp, gp, out, s))
-    }
-    fn residual_elastic(&self, c: &[f64], x: &KernelInput, f_e: &mut [f64], s: &mut [f64]) {
-        dispatch!(self, k => k.residual_elastic(c, x, f_e, s))
-    }
-    fn tangent_elastic(
-        &self,
-        c: &[f64],
-        x: &KernelInput,
-        bp: f64,
-        gp: f64,
-        f_e: &mut [f64],
-        k_ee: &mut [f64],
-        s: &mut [f64],
-    ) {
-        dispatch!(self, k => k.tangent_elastic(c, x, bp, gp, f_e, k_ee, s))
-    }
-    fn energy(&self, c: &[f64], q: &[f64], s: &mut [f64]) -> f64 {
-        dispatch!(self, k => k.energy(c, q, s))
-    }
-    fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64], s: &mut [f64]) {
-        dispatch!(self, k => k.element_invariants(c, x0, out, s))
-    }
-    fn point_shape(&self, c: &[f64], xi: f64, sh: &mut [f64], psi: &mut [f64], s: &mut [f64]) {
-        dispatch!(self, k => k.point_shape(c, xi, sh, psi, s))
-    }
-}
+crate::runtime::forward_element_kernels!([] BuiltinKernels, dispatch);
 
 /// The compiled kernels of a built-in shape for these options, if there
 /// are any: `free_frame` selects the general set, else the set specialized
@@ -117,55 +67,7 @@ macro_rules! either {
     };
 }
 
-impl ElementKernels for Kernels {
-    fn info(&self) -> &KernelInfo {
-        either!(self, k => k.info())
-    }
-    fn coefficients(&self, params: &Params, l: f64, c: &mut [f64]) {
-        either!(self, k => k.coefficients(params, l, c))
-    }
-    fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut MassOut, s: &mut [f64]) {
-        either!(self, k => k.mass(c, x0, q, out, s))
-    }
-    fn residual(&self, c: &[f64], x: &KernelInput, out: &mut ResidualOut, s: &mut [f64]) {
-        either!(self, k => k.residual(c, x, out, s))
-    }
-    fn tangent(
-        &self,
-        c: &[f64],
-        x: &KernelInput,
-        bp: f64,
-        gp: f64,
-        out: &mut TangentOut,
-        s: &mut [f64],
-    ) {
-        either!(self, k => k.tangent(c, x, bp, gp, out, s))
-    }
-    fn residual_elastic(&self, c: &[f64], x: &KernelInput, f_e: &mut [f64], s: &mut [f64]) {
-        either!(self, k => k.residual_elastic(c, x, f_e, s))
-    }
-    fn tangent_elastic(
-        &self,
-        c: &[f64],
-        x: &KernelInput,
-        bp: f64,
-        gp: f64,
-        f_e: &mut [f64],
-        k_ee: &mut [f64],
-        s: &mut [f64],
-    ) {
-        either!(self, k => k.tangent_elastic(c, x, bp, gp, f_e, k_ee, s))
-    }
-    fn energy(&self, c: &[f64], q: &[f64], s: &mut [f64]) -> f64 {
-        either!(self, k => k.energy(c, q, s))
-    }
-    fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64], s: &mut [f64]) {
-        either!(self, k => k.element_invariants(c, x0, out, s))
-    }
-    fn point_shape(&self, c: &[f64], xi: f64, sh: &mut [f64], psi: &mut [f64], s: &mut [f64]) {
-        either!(self, k => k.point_shape(c, xi, sh, psi, s))
-    }
-}
+crate::runtime::forward_element_kernels!([] Kernels, either);
 
 /// How a beam body is made.
 #[derive(Clone, Debug, PartialEq)]

@@ -196,52 +196,78 @@ pub trait CompiledBody {
 
 pub use ffr_spec::invariant_layout;
 
-impl<K: ElementKernels + ?Sized> ElementKernels for Box<K> {
-    fn info(&self) -> &KernelInfo {
-        (**self).info()
-    }
-    fn coefficients(&self, params: &Params, l: f64, c: &mut [f64]) {
-        (**self).coefficients(params, l, c)
-    }
-    fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut MassOut, s: &mut [f64]) {
-        (**self).mass(c, x0, q, out, s)
-    }
-    fn residual(&self, c: &[f64], x: &KernelInput, out: &mut ResidualOut, s: &mut [f64]) {
-        (**self).residual(c, x, out, s)
-    }
-    fn tangent(
-        &self,
-        c: &[f64],
-        x: &KernelInput,
-        bp: f64,
-        gp: f64,
-        out: &mut TangentOut,
-        s: &mut [f64],
-    ) {
-        (**self).tangent(c, x, bp, gp, out, s)
-    }
-    fn residual_elastic(&self, c: &[f64], x: &KernelInput, f_e: &mut [f64], s: &mut [f64]) {
-        (**self).residual_elastic(c, x, f_e, s)
-    }
-    fn tangent_elastic(
-        &self,
-        c: &[f64],
-        x: &KernelInput,
-        bp: f64,
-        gp: f64,
-        f_e: &mut [f64],
-        k_ee: &mut [f64],
-        s: &mut [f64],
-    ) {
-        (**self).tangent_elastic(c, x, bp, gp, f_e, k_ee, s)
-    }
-    fn energy(&self, c: &[f64], q: &[f64], s: &mut [f64]) -> f64 {
-        (**self).energy(c, q, s)
-    }
-    fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64], s: &mut [f64]) {
-        (**self).element_invariants(c, x0, out, s)
-    }
-    fn point_shape(&self, c: &[f64], xi: f64, sh: &mut [f64], psi: &mut [f64], s: &mut [f64]) {
-        (**self).point_shape(c, xi, sh, psi, s)
-    }
+/// Implement [`ElementKernels`] for a wrapper by forwarding every method to
+/// the kernels `$dispatch!(self, k => k.method(…))` selects: a `match` over
+/// an enum's variants, or a dereference. One list of the trait's methods for
+/// every wrapper (boxes, the `ffr` crate's built-in and compiled-or-tape
+/// enums). `[$gen]` are the impl's generic parameters (may be empty).
+#[macro_export]
+macro_rules! forward_element_kernels {
+    ([$($gen:tt)*] $ty:ty, $dispatch:ident) => {
+        impl<$($gen)*> $crate::ElementKernels for $ty {
+            fn info(&self) -> &$crate::KernelInfo {
+                $dispatch!(self, k => k.info())
+            }
+            fn coefficients(&self, params: &$crate::spec::Params, l: f64, c: &mut [f64]) {
+                $dispatch!(self, k => k.coefficients(params, l, c))
+            }
+            fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut $crate::MassOut, s: &mut [f64]) {
+                $dispatch!(self, k => k.mass(c, x0, q, out, s))
+            }
+            fn residual(
+                &self,
+                c: &[f64],
+                x: &$crate::KernelInput,
+                out: &mut $crate::ResidualOut,
+                s: &mut [f64],
+            ) {
+                $dispatch!(self, k => k.residual(c, x, out, s))
+            }
+            fn tangent(
+                &self,
+                c: &[f64],
+                x: &$crate::KernelInput,
+                bp: f64,
+                gp: f64,
+                out: &mut $crate::TangentOut,
+                s: &mut [f64],
+            ) {
+                $dispatch!(self, k => k.tangent(c, x, bp, gp, out, s))
+            }
+            fn residual_elastic(&self, c: &[f64], x: &$crate::KernelInput, f_e: &mut [f64], s: &mut [f64]) {
+                $dispatch!(self, k => k.residual_elastic(c, x, f_e, s))
+            }
+            fn tangent_elastic(
+                &self,
+                c: &[f64],
+                x: &$crate::KernelInput,
+                bp: f64,
+                gp: f64,
+                f_e: &mut [f64],
+                k_ee: &mut [f64],
+                s: &mut [f64],
+            ) {
+                $dispatch!(self, k => k.tangent_elastic(c, x, bp, gp, f_e, k_ee, s))
+            }
+            fn energy(&self, c: &[f64], q: &[f64], s: &mut [f64]) -> f64 {
+                $dispatch!(self, k => k.energy(c, q, s))
+            }
+            fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64], s: &mut [f64]) {
+                $dispatch!(self, k => k.element_invariants(c, x0, out, s))
+            }
+            fn point_shape(&self, c: &[f64], xi: f64, sh: &mut [f64], psi: &mut [f64], s: &mut [f64]) {
+                $dispatch!(self, k => k.point_shape(c, xi, sh, psi, s))
+            }
+        }
+    };
 }
+
+/// `{ let k = &**self; e }`: the dispatch of a box.
+macro_rules! deref_dispatch {
+    ($self:ident, $k:ident => $e:expr) => {{
+        let $k = &**$self;
+        $e
+    }};
+}
+
+forward_element_kernels!([K: ElementKernels + ?Sized] Box<K>, deref_dispatch);
