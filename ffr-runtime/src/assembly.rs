@@ -405,7 +405,6 @@ impl<'s, B: Body> Assembly<'s, B> {
         r: &mut [f64],
     ) {
         r.iter_mut().for_each(|x| *x = 0.0);
-        let n = self.n;
         for i in 0..self.sys.bodies.len() {
             if self.bodies[i].skip {
                 continue;
@@ -415,26 +414,51 @@ impl<'s, B: Body> Assembly<'s, B> {
             let sc = &mut self.bodies[i];
             b.body
                 .forces(&st, sc.frame_rows, &mut sc.work, &mut sc.forces);
-            let (o, d, nth) = (b.offset, b.d, b.n_theta);
-            let f0 = o + d + nth;
-            if sc.frame_rows {
-                let fr = rot.a * v3(&sc.forces.f_r);
-                for k in 0..d {
-                    r[o + k] += fr[k];
-                }
-                let gth = rot.g_t(&v3(&sc.forces.f_th));
-                for j in 0..nth {
-                    r[o + d + j] += gth[j];
-                }
+            self.add_body_forces(i, || rot, v, r);
+        }
+        self.add_forces_and_constraints(t, q, v, lam, 1.0, r);
+    }
+
+    /// Body `i`'s forces (already in its scratch) into `r`: `A f_r`,
+    /// `Ḡᵀ f_θ` (with frame rows; `rot` is called only then), `f_f` and its
+    /// Rayleigh damping `D q̇_f`.
+    fn add_body_forces(&self, i: usize, rot: impl FnOnce() -> Rotation, v: &[f64], r: &mut [f64]) {
+        let b = &self.sys.bodies[i];
+        let sc = &self.bodies[i];
+        let (o, d, nth) = (b.offset, b.d, b.n_theta);
+        let f0 = o + d + nth;
+        if sc.frame_rows {
+            let rot = rot();
+            let fr = rot.a * v3(&sc.forces.f_r);
+            for k in 0..d {
+                r[o + k] += fr[k];
             }
-            for (k, f) in sc.forces.f_f.iter().enumerate() {
-                r[f0 + k] += f;
-            }
-            if let Some(dm) = &sc.damping {
-                dm.mul_add(&v[f0..f0 + b.nf], 1.0, &mut r[f0..f0 + b.nf]);
+            let gth = rot.g_t(&v3(&sc.forces.f_th));
+            for j in 0..nth {
+                r[o + d + j] += gth[j];
             }
         }
-        // Force elements: − Q.
+        for (k, f) in sc.forces.f_f.iter().enumerate() {
+            r[f0 + k] += f;
+        }
+        if let Some(dm) = &sc.damping {
+            dm.mul_add(&v[f0..f0 + b.nf], 1.0, &mut r[f0..f0 + b.nf]);
+        }
+    }
+
+    /// The force elements (`− Q`), the normalizations `½(eᵀe − 1)` and the
+    /// joints' rows `Φ` with their reactions `Φ_qᵀ λ`, `λ = lam · scale`,
+    /// into `r`.
+    fn add_forces_and_constraints(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        lam: &[f64],
+        scale: f64,
+        r: &mut [f64],
+    ) {
+        let n = self.n;
         for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {
             eval_force(fe, fw, q, v, t, None);
             let na = fw.ka.len();
@@ -447,13 +471,12 @@ impl<'s, B: Body> Assembly<'s, B> {
                 }
             }
         }
-        // Normalizations ½(eᵀe − 1) and joints: Φ and Φ_qᵀ λ.
         for &(i, row) in &self.norm_rows {
             let o = self.sys.bodies[i].offset + 3;
             let e = &q[o..o + 4];
             r[n + row] = 0.5 * (e.iter().map(|x| x * x).sum::<f64>() - 1.0);
             for k in 0..4 {
-                r[o + k] += e[k] * lam[row];
+                r[o + k] += e[k] * lam[row] * scale;
             }
         }
         for (c, cw) in self.sys.constraints.iter().zip(self.cons.iter_mut()) {
@@ -461,7 +484,7 @@ impl<'s, B: Body> Assembly<'s, B> {
             cw.kb.eval(&c.b, q);
             for (k, (row, re)) in c.rows.iter().zip(cw.rows.iter_mut()).enumerate() {
                 re.eval(row, &cw.ka, &cw.kb, t);
-                let l = lam[cw.first + k];
+                let l = lam[cw.first + k] * scale;
                 r[n + cw.first + k] = re.phi;
                 for (i, &g) in cw.ka.idx.iter().chain(&cw.kb.idx).enumerate() {
                     r[g] += re.grad[i] * l;
@@ -738,65 +761,15 @@ impl<'s, B: Body> Assembly<'s, B> {
         r: &mut [f64],
     ) {
         r.iter_mut().for_each(|x| *x = 0.0);
-        let n = self.n;
         for i in 0..self.sys.bodies.len() {
             if self.bodies[i].skip {
                 continue;
             }
             let b = &self.sys.bodies[i];
-            let sc = &self.bodies[i];
             let (o, d, nth) = (b.offset, b.d, b.n_theta);
-            let f0 = o + d + nth;
-            if sc.frame_rows {
-                let rot = Rotation::new(&q[o + d..o + d + nth]);
-                let fr = rot.a * v3(&sc.forces.f_r);
-                for k in 0..d {
-                    r[o + k] += fr[k];
-                }
-                let gth = rot.g_t(&v3(&sc.forces.f_th));
-                for j in 0..nth {
-                    r[o + d + j] += gth[j];
-                }
-            }
-            for (k, f) in sc.forces.f_f.iter().enumerate() {
-                r[f0 + k] += f;
-            }
-            if let Some(dm) = &sc.damping {
-                dm.mul_add(&v[f0..f0 + b.nf], 1.0, &mut r[f0..f0 + b.nf]);
-            }
+            self.add_body_forces(i, || Rotation::new(&q[o + d..o + d + nth]), v, r);
         }
-        for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {
-            eval_force(fe, fw, q, v, t, None);
-            let na = fw.ka.len();
-            for (i, &g) in fw.ka.idx.iter().enumerate() {
-                r[g] -= fw.eval.q[i];
-            }
-            if let Some(kb) = &fw.kb {
-                for (i, &g) in kb.idx.iter().enumerate() {
-                    r[g] -= fw.eval.q[na + i];
-                }
-            }
-        }
-        for &(i, row) in &self.norm_rows {
-            let o = self.sys.bodies[i].offset + 3;
-            let e = &q[o..o + 4];
-            r[n + row] = 0.5 * (e.iter().map(|x| x * x).sum::<f64>() - 1.0);
-            for k in 0..4 {
-                r[o + k] += e[k] * lam_scaled[row] * bp;
-            }
-        }
-        for (c, cw) in self.sys.constraints.iter().zip(self.cons.iter_mut()) {
-            cw.ka.eval(&c.a, q);
-            cw.kb.eval(&c.b, q);
-            for (k, (row, re)) in c.rows.iter().zip(cw.rows.iter_mut()).enumerate() {
-                re.eval(row, &cw.ka, &cw.kb, t);
-                let l = lam_scaled[cw.first + k] * bp;
-                r[n + cw.first + k] = re.phi;
-                for (i, &g) in cw.ka.idx.iter().chain(&cw.kb.idx).enumerate() {
-                    r[g] += re.grad[i] * l;
-                }
-            }
-        }
+        self.add_forces_and_constraints(t, q, v, lam_scaled, bp, r);
     }
 
     /// The mass system `[M, Φ_qᵀ; Φ_q, 0]` at `(t, q)` into the solver
