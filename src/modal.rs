@@ -11,11 +11,16 @@ use crate::cli::{check_invariants, invariants_json, BodyArgs, ParamArgs};
 use crate::codegen::body::ExactInvariants;
 use crate::codegen::export::{mbdyn_fem, sid, ExportBody};
 use crate::codegen::limits::check_params;
-use crate::codegen::modal::{self, reduce, rigid_body_modes, ModalBasis, Reduction};
-use crate::codegen::poly::{Param, Poly, Sym};
+use crate::codegen::modal::{self, reduce, rigid_body_modes, ModalBasis, ModeKind, Reduction};
+use crate::codegen::poly::{to_f64, Param, Poly, Sym};
 use crate::codegen::{BodySpec, Shape};
+use crate::compiled::BeamSpec;
 use crate::output;
+use crate::runtime::modal::{ModalBody, ModalData, ModalPoly};
+use crate::runtime::nalgebra::DMatrix;
+use crate::runtime::spec::Stiffening;
 use crate::runtime::spec::{Formalism, Params, Reference};
+use crate::runtime::Body;
 use serde_json::{json, Value};
 use std::collections::BTreeSet;
 use std::error::Error;
@@ -23,7 +28,7 @@ use std::path::Path;
 
 /// A body ready for reduction: its description, its invariants at the
 /// parameters, and how many elastic modes it has.
-pub struct ModalBody {
+pub struct ReducibleBody {
     /// The body.
     pub spec: BodySpec,
     /// The parameter values.
@@ -77,7 +82,7 @@ fn to_runtime(inv: &modal::Invariants) -> crate::runtime::Invariants {
     r
 }
 
-impl ModalBody {
+impl ReducibleBody {
     /// The body the shared `--shape/--elements/--reference/--formalism` and
     /// parameter arguments describe, checked like `ffr invariants` checks
     /// its body (parameters valid and used ones positive, every invariant
@@ -89,16 +94,27 @@ impl ModalBody {
                     .into(),
             );
         }
-        let p = params.values();
-        check_params(&p, &[])?;
-        let shape = Shape::resolve(&body.shape, None)?;
-        let formalism = body.formalism.parse::<Formalism>()?;
-        let spec = BodySpec::new(
-            shape,
+        Self::from_parts(
+            &body.shape,
             body.elements as usize,
             body.reference.parse::<Reference>()?,
-        )?
-        .with_formalism(formalism);
+            body.formalism.parse::<Formalism>()?,
+            params.values(),
+        )
+    }
+
+    /// The body of `elements` `shape` elements (a built-in name or a shape
+    /// file's path) at parameters `p`, checked as [`ReducibleBody::new`] says.
+    pub fn from_parts(
+        shape: &str,
+        elements: usize,
+        reference: Reference,
+        formalism: Formalism,
+        p: Params,
+    ) -> Result<Self, Box<dyn Error>> {
+        check_params(&p, &[])?;
+        let shape = Shape::resolve(shape, None)?;
+        let spec = BodySpec::new(shape, elements, reference)?.with_formalism(formalism);
         let exact = spec.exact_invariants()?;
         check_params(&p, &params_used(&exact))?;
         let invariants = modal::Invariants::from_exact(&exact, &p)?;
@@ -208,13 +224,154 @@ impl ModalBody {
     }
 }
 
-/// What the basis is: `modal truncation` or `Craig-Bampton`.
+/// What the basis is: `modal truncation` or `Craig-Bampton`, `+ static
+/// modes` when [`modal::augment`] added some.
 fn reduction_name(basis: &ModalBasis) -> &'static str {
-    if basis.frequencies.len() < basis.len() {
-        "Craig-Bampton"
-    } else {
-        "modal truncation"
+    let cb = basis
+        .kinds
+        .iter()
+        .any(|k| matches!(k, ModeKind::Constraint { .. }));
+    let st = basis
+        .kinds
+        .iter()
+        .any(|k| matches!(k, ModeKind::Static { .. }));
+    match (cb, st) {
+        (true, false) => "Craig-Bampton",
+        (true, true) => "Craig-Bampton + static modes",
+        (false, false) => "modal truncation",
+        (false, true) => "modal truncation + static modes",
     }
+}
+
+/// How a flexible body is reduced to modes in a scene (keys `modes`,
+/// `boundary`, `static_modes`, `modal_damping`) and by `ffr spin-up --modes`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModalSettings {
+    /// Normal modes kept: the lowest eigenmodes (modal truncation) or
+    /// fixed-interface modes (Craig–Bampton).
+    pub modes: usize,
+    /// Craig–Bampton boundary nodes; empty: modal truncation.
+    pub boundary: Vec<usize>,
+    /// Add the static modes of [`modal::static_loads`] (inertia loads of
+    /// the frame's motion and, with stiffening, the modal derivatives).
+    pub static_modes: bool,
+    /// Damping ratios `ζ` of the normal modes: none, one for every normal
+    /// mode, or one per normal mode; `D = diag(2 ζ_i ω_i)` on them (the other
+    /// modes are undamped).
+    pub damping: Vec<f64>,
+}
+
+impl ModalSettings {
+    /// `modes` normal modes of a modal truncation with static modes, no damping.
+    pub fn truncation(modes: usize) -> Self {
+        Self {
+            modes,
+            boundary: Vec::new(),
+            static_modes: true,
+            damping: Vec::new(),
+        }
+    }
+}
+
+impl ReducibleBody {
+    /// The runtime body reduced as `settings` say: the basis (with static
+    /// modes if asked), the projected invariants, the stiffening energy
+    /// `U_nl(Φ η)` of `stiffening`, the modal damping; `full` is the same
+    /// body with nodal coordinates (its point shapes place markers).
+    pub fn runtime_body(
+        &self,
+        settings: &ModalSettings,
+        stiffening: Stiffening,
+        full: Box<dyn Body>,
+    ) -> Result<ModalBody, Box<dyn Error>> {
+        if full.layout().nf != self.dofs.len() {
+            return Err(format!(
+                "the full body has {} elastic coordinates, the reduction {}",
+                full.layout().nf,
+                self.dofs.len()
+            )
+            .into());
+        }
+        let normal = settings.modes;
+        let base = self.reduce(Some(normal), &settings.boundary, "`modes`")?;
+        let u_nl =
+            modal::substitute_params(&self.spec.stiffening_energy(stiffening), &self.params)?;
+        let basis = if settings.static_modes {
+            let loads =
+                modal::static_loads(&self.invariants, &u_nl, &base.phi, base.frequencies.len())?;
+            modal::augment(&base, &self.invariants.m_ff, &self.invariants.k_ff, &loads)?
+        } else {
+            base
+        };
+        let k = basis.len();
+        let n_normal = basis.frequencies.len();
+        let zeta: Vec<f64> = match settings.damping.len() {
+            0 => vec![0.0; n_normal],
+            1 => vec![settings.damping[0]; n_normal],
+            l if l == n_normal => settings.damping.clone(),
+            l => {
+                return Err(format!(
+                    "`modal_damping` has {l} ratios: give one, or one per normal mode ({n_normal})"
+                )
+                .into())
+            }
+        };
+        if let Some(z) = zeta.iter().find(|z| !(z.is_finite() && **z >= 0.0)) {
+            return Err(format!("a modal damping ratio must be finite and ≥ 0, found {z}").into());
+        }
+        let damping = zeta.iter().any(|z| *z > 0.0).then(|| {
+            let mut d = DMatrix::zeros(k, k);
+            for (i, (z, w)) in zeta.iter().zip(&basis.frequencies).enumerate() {
+                d[(i, i)] = 2.0 * z * w * basis.modal_mass[(i, i)];
+            }
+            d
+        });
+        let projected = self.invariants.project(&basis.phi);
+        let u_eta = modal::project_energy(&u_nl, &basis.phi)?;
+        let mut terms = Vec::with_capacity(u_eta.terms().count());
+        for (m, c) in u_eta.terms() {
+            let mut idx = Vec::new();
+            for &(s, e) in m.factors() {
+                match s {
+                    Sym::Q(j) if e > 0 => idx.extend(std::iter::repeat(j).take(e as usize)),
+                    other => return Err(format!("projected energy term with `{other}^{e}`").into()),
+                }
+            }
+            terms.push((to_f64(c), idx));
+        }
+        let description = format!(
+            "{} reduced to {k} modes ({}: {n_normal} normal{}), stiffening {stiffening}",
+            self.description(),
+            reduction_name(&basis),
+            if k > n_normal {
+                format!(", {} more", k - n_normal)
+            } else {
+                String::new()
+            }
+        );
+        let data = ModalData {
+            invariants: to_runtime(&projected),
+            phi: basis.phi.clone(),
+            stiffening: ModalPoly::new(terms),
+            damping,
+            labels: basis.labels.clone(),
+            description,
+        };
+        Ok(ModalBody::new(full, data)?)
+    }
+}
+
+/// The modal body `settings` make of the beam `beam` describes (its full
+/// body, built as usual, places the markers).
+pub fn modal_body(beam: &BeamSpec, settings: &ModalSettings) -> Result<ModalBody, Box<dyn Error>> {
+    let r = ReducibleBody::from_parts(
+        &beam.shape,
+        beam.elements,
+        beam.reference,
+        beam.formalism,
+        beam.params,
+    )?;
+    r.runtime_body(settings, beam.stiffening, Box::new(beam.body()?))
 }
 
 /// The reduction as the JSON object of `ffr modes --json`: `reduction`,
@@ -223,7 +380,7 @@ fn reduction_name(basis: &ModalBasis) -> &'static str {
 /// `constraint_<dof>`), `dofs`, `phi` (n_f rows of k), `modal_mass`,
 /// `modal_stiffness` (k × k) and `invariants`, the projected invariants keyed
 /// like `ffr invariants --json` (with `dofs` the mode labels).
-pub fn modes_json(body: &ModalBody, basis: &ModalBasis) -> Value {
+pub fn modes_json(body: &ReducibleBody, basis: &ModalBasis) -> Value {
     let rows = |m: &crate::runtime::nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
         (0..m.nrows())
             .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
@@ -252,7 +409,7 @@ pub fn modes(
     boundary: &[usize],
     json: bool,
 ) -> Result<(), Box<dyn Error>> {
-    let b = ModalBody::new(body, params)?;
+    let b = ReducibleBody::new(body, params)?;
     let basis = b.reduce(count, boundary, "--count")?;
     if json {
         println!("{}", serde_json::to_string(&modes_json(&b, &basis))?);
@@ -294,7 +451,7 @@ pub fn modes(
     Ok(())
 }
 
-/// `ffr export`: write the body reduced as [`ModalBody::reduce`] says in
+/// `ffr export`: write the body reduced as [`ReducibleBody::reduce`] says in
 /// `format` (`mbdyn-fem` or `sid`) to `out`, atomically.
 pub fn export(
     format: &str,
@@ -305,7 +462,7 @@ pub fn export(
     out: &Path,
 ) -> Result<(), Box<dyn Error>> {
     output::check_file_path(out, "--out")?;
-    let b = ModalBody::new(body, params)?;
+    let b = ReducibleBody::new(body, params)?;
     let basis = b.reduce(count, boundary, "--modes")?;
     let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
     let text = match format {

@@ -259,7 +259,24 @@ impl<'s, B: Body> Assembly<'s, B> {
                 blocks.push((band as usize, lay.half_bandwidth));
                 body_border.push(border);
             }
-            let damping = b.damping.map(|r| {
+            let own = b.body.damping();
+            if let Some(d) = &own {
+                if (d.n(), d.half_bandwidth()) != (b.nf, lay.half_bandwidth) {
+                    return Err(Error::InvalidBody {
+                        body: i,
+                        reason: format!(
+                            "its damping matrix is {}×{} with half-bandwidth {}, its elastic blocks {}×{} with {}",
+                            d.n(),
+                            d.n(),
+                            d.half_bandwidth(),
+                            b.nf,
+                            b.nf,
+                            lay.half_bandwidth
+                        ),
+                    });
+                }
+            }
+            let rayleigh = b.damping.map(|r| {
                 let mut work = b.body.work();
                 let mut mass = BodyMass::zeros(b.nf, lay.half_bandwidth);
                 let zeros = vec![0.0; b.nf];
@@ -279,6 +296,14 @@ impl<'s, B: Body> Assembly<'s, B> {
                 d.add_scaled(r.beta, &t.k_ff);
                 d
             });
+            // D = the body's own damping + α m_ff + β K_ff.
+            let damping = match (own, rayleigh) {
+                (Some(mut d), Some(r)) => {
+                    d.add_scaled(1.0, &r);
+                    Some(d)
+                }
+                (d, r) => d.or(r),
+            };
             let all_fixed = (o..o + b.n_coords()).all(|c| presc[c].is_some());
             bodies.push(BodyScratch {
                 work: b.body.work(),

@@ -368,6 +368,13 @@ pub trait Body: Send + Sync {
     /// The point at `x` on the undeformed axis (a beam body), or an error
     /// naming the valid range.
     fn point_shape(&self, x: f64) -> Result<PointShape>;
+
+    /// The body's own damping matrix `D` of its elastic coordinates (a
+    /// modal body's per-mode ratios), added to any Rayleigh damping the
+    /// system sets: the force `D q̇_f`. `None` (the default): none.
+    fn damping(&self) -> Option<BandBuf> {
+        None
+    }
 }
 
 impl<B: Body + ?Sized> Body for Box<B> {
@@ -403,6 +410,9 @@ impl<B: Body + ?Sized> Body for Box<B> {
     }
     fn point_shape(&self, x: f64) -> Result<PointShape> {
         (**self).point_shape(x)
+    }
+    fn damping(&self) -> Option<BandBuf> {
+        (**self).damping()
     }
 }
 

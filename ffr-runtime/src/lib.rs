@@ -4,7 +4,7 @@
 //! - [`kernel`]: what generated code provides per element ([`ElementKernels`]).
 //! - [`body`]: a body's generalized forces, derivatives and mass blocks
 //!   ([`Body`]); [`nodal`]: bodies assembled from element kernels;
-//!   [`rigid`]: rigid bodies.
+//!   [`rigid`]: rigid bodies; [`modal`]: bodies reduced to modes.
 //! - [`system`]: bodies, prescribed coordinates, joints ([`joint`]) at
 //!   markers ([`marker`]), force elements ([`force`]), drivers ([`driver`]).
 //! - [`assembly`]: residual and analytic iteration matrix in the structure of
@@ -22,6 +22,7 @@ pub mod joint;
 pub mod kernel;
 pub mod linalg;
 pub mod marker;
+pub mod modal;
 pub mod nodal;
 pub mod rigid;
 pub mod rotation;
@@ -44,6 +45,7 @@ pub use kernel::{
     CompiledBody, ElementKernels, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut,
 };
 pub use marker::{BodyId, Marker};
+pub use modal::{ModalBody, ModalData, ModalPoly};
 pub use nalgebra;
 pub use nodal::KernelBody;
 pub use rigid::RigidBody;

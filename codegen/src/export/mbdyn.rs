@@ -56,6 +56,9 @@ pub fn mbdyn_fem(body: &ExportBody) -> String {
             ModeKind::Constraint { .. } => {
                 let _ = writeln!(w, "** mode {}: {label} (static constraint mode)", j + 1);
             }
+            ModeKind::Static { .. } => {
+                let _ = writeln!(w, "** mode {}: {label} (static mode)", j + 1);
+            }
         }
     }
     let _ = writeln!(w, "**");
@@ -89,6 +92,7 @@ pub fn mbdyn_fem(body: &ExportBody) -> String {
         let what = match body.kinds[j] {
             ModeKind::Normal { .. } => "NORMAL MODE SHAPE",
             ModeKind::Constraint { .. } => "CONSTRAINT MODE SHAPE",
+            ModeKind::Static { .. } => "STATIC MODE SHAPE",
         };
         let _ = writeln!(w, "**    {what} #  {} ({})", j + 1, body.labels[j]);
         for n in &body.nodes {

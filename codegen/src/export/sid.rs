@@ -143,6 +143,7 @@ pub fn sid(body: &ExportBody) -> String {
         let name = match kind {
             ModeKind::Normal { omega } => format!("{label} : {} rad/s", num(*omega)),
             ModeKind::Constraint { .. } => format!("{label} : static constraint mode"),
+            ModeKind::Static { load } => format!("{label} : static mode ({load})"),
         };
         let _ = writeln!(w, "            ielastq ({:4}) = {name}", j + 1);
     }

@@ -41,7 +41,7 @@ use super::ModalError;
 use crate::body::{BodySpec, Reference};
 use crate::shape::Kind;
 use ffr_spec::Params;
-use nalgebra::{Cholesky, DMatrix, SymmetricEigen, QR};
+use nalgebra::{Cholesky, DMatrix, DVector, SymmetricEigen, QR};
 use std::collections::BTreeSet;
 
 /// Relative gap below which two eigenvalues are treated as one cluster.
@@ -85,6 +85,14 @@ pub enum ModeKind {
     Constraint {
         /// Body coordinate index.
         dof: usize,
+    },
+    /// A static mode added by [`augment`]: the static response `K_ff⁻¹ f`
+    /// to a load `f` (an inertia load of the frame's motion, or a modal
+    /// derivative), made mass-orthogonal to the modes before it and
+    /// mass normalized.
+    Static {
+        /// What load it answers (its label without the `static_` prefix).
+        load: String,
     },
 }
 
@@ -154,6 +162,201 @@ impl ModalBasis {
             kinds,
         }
     }
+}
+
+/// Relative mass norm below which an added static vector is taken to lie in
+/// the span of the basis so far and is dropped.
+pub const STATIC_DROP_TOL: f64 = 1e-6;
+
+/// `basis` with static modes appended: for each `(name, f)` of `loads`, in
+/// order, `ψ = K_ff⁻¹ f`, less its mass-orthogonal projection on the basis
+/// so far (twice, for round-off); if what remains has a mass norm below
+/// [`STATIC_DROP_TOL`] of `ψ`'s it is dropped (the basis already contains
+/// that response), else it is mass normalized, its sign chosen so that its
+/// largest entry is positive (the first on a relative `1e-9` tie), and it is
+/// appended as `static_<name>` ([`ModeKind::Static`]). The existing modes are
+/// not changed. `K_ff` must be positive definite (a clamped or pinned body).
+pub fn augment(
+    basis: &ModalBasis,
+    m: &DMatrix<f64>,
+    k: &DMatrix<f64>,
+    loads: &[(String, DVector<f64>)],
+) -> Result<ModalBasis, ModalError> {
+    let n = m.nrows();
+    check_square("m_ff", m, n)?;
+    check_square("K_ff", k, n)?;
+    if basis.phi.nrows() != n {
+        return Err(ModalError::Input(format!(
+            "the basis has {} rows, the matrices {n}",
+            basis.phi.nrows()
+        )));
+    }
+    let chol = Cholesky::new(k.clone()).ok_or_else(|| {
+        ModalError::NotDefinite(
+            "static modes need K_ff positive definite: a clamped or pinned body, not a free one"
+                .into(),
+        )
+    })?;
+    let mut cols: Vec<DVector<f64>> = (0..basis.len())
+        .map(|j| basis.phi.column(j).into_owned())
+        .collect();
+    let mut labels = basis.labels.clone();
+    let mut kinds = basis.kinds.clone();
+    for (name, f) in loads {
+        if f.len() != n || f.iter().any(|x| !x.is_finite()) {
+            return Err(ModalError::Input(format!(
+                "load `{name}` must be {n} finite numbers"
+            )));
+        }
+        if f.amax() == 0.0 {
+            continue;
+        }
+        let psi = chol.solve(f);
+        let m_norm = |v: &DVector<f64>| v.dot(&(m * v)).max(0.0).sqrt();
+        let size = m_norm(&psi);
+        if size == 0.0 {
+            continue;
+        }
+        let mut r = psi;
+        for _ in 0..2 {
+            // r −= Φ (ΦᵀMΦ)⁻¹ Φᵀ M r, with the columns so far.
+            if cols.is_empty() {
+                break;
+            }
+            let phi = DMatrix::from_columns(&cols);
+            let mr = m * &r;
+            let rhs = phi.transpose() * mr;
+            let gram = sym(phi.transpose() * m * &phi);
+            let c = Cholesky::new(gram)
+                .ok_or_else(|| {
+                    ModalError::NotDefinite("the basis is not linearly independent".into())
+                })?
+                .solve(&rhs);
+            r -= phi * c;
+        }
+        let left = m_norm(&r);
+        if !(left > STATIC_DROP_TOL * size) {
+            continue;
+        }
+        r /= left;
+        let big = r.amax();
+        let at = r
+            .iter()
+            .position(|x| x.abs() >= big * (1.0 - TIE_TOL))
+            .unwrap_or(0);
+        if r[at] < 0.0 {
+            r = -r;
+        }
+        cols.push(r);
+        labels.push(format!("static_{name}"));
+        kinds.push(ModeKind::Static { load: name.clone() });
+    }
+    let phi = DMatrix::from_columns(&cols);
+    let pt = phi.transpose();
+    Ok(ModalBasis {
+        modal_mass: sym(&pt * m * &phi),
+        modal_stiffness: sym(&pt * k * &phi),
+        phi,
+        frequencies: basis.frequencies.clone(),
+        labels,
+        kinds,
+    })
+}
+
+/// The loads whose static responses [`augment`] adds to a basis `phi`
+/// (`n_f × k`) of a body with invariants `inv` and stiffening energy `u_nl`
+/// (a polynomial in `Sym::Q(i)` at the parameters, e.g. from
+/// [`super::substitute_params`]; zero without stiffening):
+///
+/// - the inertia loads of the frame's motion on the undeformed body, the
+///   columns of `f_f` that do not depend on `q_f`: `S̄ᵀ e_k` (translational
+///   acceleration along `k`, named `a_k`) and `Ī_kl` (rotational terms, named
+///   `i_kl`) — the centrifugal stretch of a spinning beam is one of them;
+/// - with stiffening, the modal derivatives of the normal modes `i ≤ j`
+///   (named `d_i_j`, 1-based): `∂²(∂U_nl/∂q_f)/∂η_i∂η_j` at rest, the load
+///   whose static response is the second-order deformation the pair couples
+///   into (a bending mode's foreshortening: without it a reduced beam's
+///   axial strain cannot relax and the fourth-order energy over-stiffens).
+///
+/// Zero loads are left out. Deterministic order: translations, rotations,
+/// derivatives.
+pub fn static_loads(
+    inv: &Invariants,
+    u_nl: &crate::poly::Poly,
+    phi: &DMatrix<f64>,
+    normal: usize,
+) -> Result<Vec<(String, DVector<f64>)>, ModalError> {
+    use crate::poly::{to_f64, Sym};
+    let n = inv.nf();
+    let axes = ["x", "y", "z"];
+    let mut out = Vec::new();
+    for (a, ax) in axes.iter().enumerate() {
+        let f: DVector<f64> = inv.s_bar.row(a).transpose();
+        if f.amax() != 0.0 {
+            out.push((format!("a_{ax}"), f));
+        }
+    }
+    for (a, ax) in axes.iter().enumerate() {
+        for (b, bx) in axes.iter().enumerate() {
+            let f = inv.i_kl[a][b].clone();
+            if f.amax() != 0.0 {
+                out.push((format!("i_{ax}{bx}"), f));
+            }
+        }
+    }
+    // The cubic part of U_nl: T_abc = ∂³U/∂q_a∂q_b∂q_c at 0.
+    let mut cubic: Vec<(f64, [usize; 3])> = Vec::new();
+    for (mono, c) in u_nl.terms() {
+        let mut idx = Vec::with_capacity(3);
+        let mut degree = 0;
+        for &(s, e) in mono.factors() {
+            match s {
+                Sym::Q(i) if (i as usize) < n && e > 0 => {
+                    degree += e;
+                    for _ in 0..e {
+                        idx.push(i as usize);
+                    }
+                }
+                other => {
+                    return Err(ModalError::Eval {
+                        poly: mono.to_string(),
+                        reason: format!(
+                            "`{other}`: the energy must be a polynomial in the body's elastic coordinates"
+                        ),
+                    })
+                }
+            }
+        }
+        if degree == 3 {
+            cubic.push((to_f64(c), [idx[0], idx[1], idx[2]]));
+        }
+    }
+    if cubic.is_empty() {
+        return Ok(out);
+    }
+    const PERMS: [[usize; 3]; 6] = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
+    for i in 0..normal.min(phi.ncols()) {
+        for j in i..normal.min(phi.ncols()) {
+            // f_a = Σ_bc T_abc φ_ib φ_jc.
+            let mut f = DVector::zeros(n);
+            for (c, t) in &cubic {
+                for p in PERMS {
+                    f[t[p[0]]] += c * phi[(t[p[1]], i)] * phi[(t[p[2]], j)];
+                }
+            }
+            if f.amax() != 0.0 {
+                out.push((format!("d_{}_{}", i + 1, j + 1), f));
+            }
+        }
+    }
+    Ok(out)
 }
 
 fn sym(a: DMatrix<f64>) -> DMatrix<f64> {

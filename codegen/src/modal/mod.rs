@@ -29,7 +29,8 @@ mod energy;
 mod invariants;
 
 pub use basis::{
-    craig_bampton, modal_truncation, reduce, rigid_body_modes, ModalBasis, ModeKind, Reduction,
+    augment, craig_bampton, modal_truncation, reduce, rigid_body_modes, static_loads, ModalBasis,
+    ModeKind, Reduction, STATIC_DROP_TOL,
 };
 pub use energy::{project_energy, substitute_params, MAX_ENERGY_DEGREE};
 pub use invariants::{eval_poly, Invariants};
