@@ -5,6 +5,7 @@ use crate::codegen::limits::{check_literals, check_params};
 use crate::codegen::sanitize::check_type_name;
 use crate::codegen::{generate_kernels, BodySpec, EmitOptions, Shape};
 use crate::compiled::BeamSpec;
+use crate::modal::ModalSettings;
 use crate::output;
 use crate::runtime::spec::{Formalism, Params, Reference, Stiffening};
 use crate::runtime::{Body, GeneralizedAlpha, Integrator, Invariants, Rk4Baumgarte};
@@ -279,6 +280,22 @@ pub struct SpinUpArgs {
     /// instead of the one specialized for this scene (comparisons).
     #[arg(long)]
     pub general: bool,
+    /// Reduce the beam to this many normal modes (a modal body; default:
+    /// the full nodal body); see docs/modal.md.
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..))]
+    pub modes: Option<u16>,
+    /// With --modes: modal truncation (the lowest clamped modes) or
+    /// Craig-Bampton with the tip node as boundary (fixed-interface modes
+    /// plus its static constraint modes).
+    #[arg(long, default_value = "modal", value_parser = ["modal", "craig-bampton"], requires = "modes")]
+    pub reduction: String,
+    /// With --modes: leave out the static modes (the inertia loads' static
+    /// responses and, with stiffening, the modal derivatives).
+    #[arg(long, requires = "modes")]
+    pub no_static_modes: bool,
+    /// With --modes: damping ratio ζ of every normal mode.
+    #[arg(long, default_value_t = 0.0, requires = "modes")]
+    pub modal_damping: f64,
     /// Where to write `t,tip_axial,tip_transverse` (default: results/spin_up_….csv).
     #[arg(long)]
     pub csv: Option<PathBuf>,
@@ -335,6 +352,28 @@ impl SpinUpArgs {
         cfg.dt = self.dt;
         cfg.force_tape = self.tape;
         cfg.general = self.general;
+        if let Some(k) = self.modes {
+            if self.general {
+                return Err("--general applies to the nodal body, not with --modes".into());
+            }
+            if !(self.modal_damping.is_finite() && self.modal_damping >= 0.0) {
+                return Err(format!(
+                    "--modal-damping must be a finite ratio ≥ 0, found {}",
+                    self.modal_damping
+                )
+                .into());
+            }
+            cfg.modal = Some(ModalSettings {
+                modes: k as usize,
+                boundary: if self.reduction == "craig-bampton" {
+                    vec![cfg.elements]
+                } else {
+                    Vec::new()
+                },
+                static_modes: !self.no_static_modes,
+                damping: vec![self.modal_damping],
+            });
+        }
         cfg.params = Params {
             e: KRB.e * self.e_scale,
             g: KRB.g * self.e_scale,
@@ -354,8 +393,20 @@ impl SpinUpArgs {
             "second-order" => "stiff2",
             _ => "stiff",
         };
+        let modal = match self.modes {
+            None => String::new(),
+            Some(k) => format!(
+                "_{}{k}{}",
+                if self.reduction == "craig-bampton" {
+                    "cb"
+                } else {
+                    "modes"
+                },
+                if self.no_static_modes { "_pure" } else { "" }
+            ),
+        };
         format!(
-            "spin_up_omega{}_n{}_{s}{}",
+            "spin_up_omega{}_n{}_{s}{}{modal}",
             self.omega,
             self.elements,
             if self.spatial { "_spatial" } else { "" }
@@ -425,6 +476,9 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
         cfg.stiffening,
         if args.e_scale != 1.0 { format!(", E × {}", args.e_scale) } else { String::new() }
     );
+    if cfg.modal.is_some() {
+        println!("modal body: {}", r.body);
+    }
     if let Some((t, y)) = r.min_transverse() {
         println!("peak tip deflection (hub frame): {y:.5} m at t = {t:.2} s");
     }

@@ -6,12 +6,15 @@
 //! Planar: a beam2 body in a planar scene, frame origin fixed, frame angle
 //! `θ(t)`. Spatial: a beam3 body in a spatial scene, its Euler parameters
 //! prescribed as the rotation `θ(t)` about global z. In both the frame motion
-//! is prescribed, so the body runs its elastic kernels only.
+//! is prescribed, so the body runs its elastic kernels only. With
+//! [`SpinUp::modal`] the beam is reduced to modes ([`crate::modal`]).
 
 use crate::compiled::{BeamSpec, FrameModel, Kernels};
+use crate::modal::{modal_body, ModalSettings};
 use crate::runtime::spec::{Formalism, Params, Reference, Stiffening};
 use crate::runtime::{
-    Driver, Error as RtError, GeneralizedAlpha, Integrator, KernelBody, Pose, System,
+    Driver, Error as RtError, GeneralizedAlpha, Integrator, KernelBody, ModalBody, PointShape,
+    Pose, System,
 };
 use std::ops::ControlFlow;
 
@@ -57,6 +60,8 @@ pub struct SpinUp {
     pub general: bool,
     /// Run on tapes instead of the compiled kernels (comparisons).
     pub force_tape: bool,
+    /// Reduce the beam to modes (`None`: the full nodal body).
+    pub modal: Option<ModalSettings>,
 }
 
 impl SpinUp {
@@ -76,6 +81,7 @@ impl SpinUp {
             params: KRB,
             general: false,
             force_tape: false,
+            modal: None,
         }
     }
 
@@ -138,7 +144,11 @@ pub struct SpinUpResult {
     pub splits: usize,
     /// Wall time of the simulation alone (s).
     pub wall: f64,
-    /// `compiled` or `tape`.
+    /// CPU time of the simulation alone, this thread (s).
+    pub cpu: f64,
+    /// The body's one-line description.
+    pub body: String,
+    /// `compiled`, `tape` or `modal`.
     pub kernels: &'static str,
 }
 
@@ -216,14 +226,62 @@ pub fn run(cfg: &SpinUp) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
 /// [`SpinUpResult::steps`] short of the full run and no divergence).
 pub fn run_with(
     cfg: &SpinUp,
+    stop: impl FnMut(f64) -> ControlFlow<()>,
+) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
+    let length = cfg.params.length;
+    match &cfg.modal {
+        None => {
+            let (sys, probe) = system(cfg)?;
+            let tip = crate::runtime::Body::point_shape(&probe, length)?;
+            simulate(cfg, sys, &tip, probe.kernels().path(), stop)
+        }
+        Some(settings) => {
+            let (sys, tip) = modal_system(cfg, settings)?;
+            simulate(cfg, sys, &tip, "modal", stop)
+        }
+    }
+}
+
+/// The spin-up system with the beam reduced to modes as `settings` say, and
+/// the tip's point shape.
+pub fn modal_system(
+    cfg: &SpinUp,
+    settings: &ModalSettings,
+) -> Result<(System<ModalBody>, PointShape), Box<dyn std::error::Error>> {
+    if !(cfg.omega_s.is_finite() && cfg.t_ramp > 0.0 && cfg.t_ramp.is_finite()) {
+        return Err(format!(
+            "spin-up needs a finite ω_s and T > 0 (got {}, {})",
+            cfg.omega_s, cfg.t_ramp
+        )
+        .into());
+    }
+    if cfg.force_tape {
+        return Err("a modal body does not run on tapes (--tape)".into());
+    }
+    let body = modal_body(&cfg.beam(), settings)?;
+    let tip = crate::runtime::Body::point_shape(&body, cfg.params.length)?;
+    let mut sys = if cfg.spatial {
+        System::spatial()
+    } else {
+        System::planar()
+    };
+    let b = sys.add_body("beam", body, Pose::identity(sys.dim()))?;
+    sys.prescribe_rotation_about_z(b, cfg.driver())?;
+    Ok((sys, tip))
+}
+
+fn simulate<B: crate::runtime::Body>(
+    cfg: &SpinUp,
+    sys: System<B>,
+    tip: &PointShape,
+    kernels: &'static str,
     mut stop: impl FnMut(f64) -> ControlFlow<()>,
 ) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
-    let (sys, probe) = system(cfg)?;
     let length = cfg.params.length;
-    let tip = crate::runtime::Body::point_shape(&probe, length)?;
     let fo = sys.bodies()[0].f_offset();
     let mut res = SpinUpResult {
-        kernels: probe.kernels().path(),
+        kernels,
+        body: sys.bodies()[0].body.layout().description.clone(),
         ..SpinUpResult::default()
     };
     let n_samples = (cfg.t_end / cfg.dt).ceil() as usize + 1;
@@ -234,6 +292,7 @@ pub fn run_with(
         res.tip_lateral.reserve(n_samples);
     }
     let start = std::time::Instant::now();
+    let c0 = crate::report::measure::thread_cpu_seconds();
     let run = sys.simulate(cfg.t_end, cfg.dt, &cfg.integrator, |v| {
         let q = &v.state.q;
         let mut u = [0.0; 3];
@@ -259,6 +318,7 @@ pub fn run_with(
         stop(v.state.t)
     });
     res.wall = start.elapsed().as_secs_f64();
+    res.cpu = crate::report::measure::thread_cpu_seconds() - c0;
     match run {
         Ok(s) => {
             res.steps = s.steps;
