@@ -110,6 +110,36 @@ fn every_error_names_its_place_and_what_is_allowed() {
             "\"hinge\"",
             vec!["unknown joint kind `hinge`", "ground, fixed, revolute, spherical or prismatic"],
         ),
+        // Modal keys without `modes`.
+        (
+            edit("elements = 2\n", "elements = 2\nmodal_damping = 0.02\n"),
+            "0.02",
+            vec!["body `rod`: `modal_damping` needs `modes = K`"],
+        ),
+        // An unknown reduction.
+        (
+            edit("elements = 2\n", "elements = 2\nmodes = 2\nreduction = \"guyan\"\n"),
+            "\"guyan\"",
+            vec!["`reduction` is \"modal\" or \"craig-bampton\"", "`guyan`"],
+        ),
+        // More modes than the body has.
+        (
+            edit("elements = 2\n", "elements = 2\nmodes = 7\n"),
+            "7",
+            vec!["body `rod`: `modes` must be between 1 and 6", "found 7"],
+        ),
+        // A boundary node beyond the body.
+        (
+            edit("elements = 2\n", "elements = 2\nmodes = 2\nreduction = \"craig-bampton\"\nboundary_nodes = [3]\n"),
+            "[3]",
+            vec!["boundary node 3 out of range", "nodes 0 to 2"],
+        ),
+        // Damping ratios that do not match the normal modes.
+        (
+            edit("elements = 2\n", "elements = 2\nmodes = 2\nmodal_damping = [0.01, 0.02, 0.03]\n"),
+            "2\nmodal",
+            vec!["`modal_damping` has 3 ratios", "one per normal mode (2)"],
+        ),
         // A missing parameter of a flexible body (e is used by the beam).
         (
             edit(", e = 7.0e10 }", " }"),

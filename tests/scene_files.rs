@@ -312,3 +312,56 @@ fn spin_up_file_and_spin_up_job_write_identical_columns() {
     assert_eq!(job, file);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `ffr spin-up --modes 4` and `ffr run scenes/spin_up_modal.toml` (the same
+/// modal body: 4 clamped modes plus static modes) write the same CSV text.
+#[test]
+fn modal_spin_up_file_and_job_write_identical_columns() {
+    let dir = std::env::temp_dir().join(format!("ffr-scene-modal-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |f: &str| dir.join(f).display().to_string();
+    let ffr = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_ffr"))
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).to_string()
+    };
+    let job = ffr(&[
+        "spin-up",
+        "--modes",
+        "4",
+        "--csv",
+        &path("job.csv"),
+        "--svg",
+        &path("job.svg"),
+    ]);
+    assert!(job.contains("reduced to 14 modes"), "{job}");
+    let file = scene::load::builtin_dir().join("spin_up_modal.toml");
+    let run = ffr(&[
+        "run",
+        &file.display().to_string(),
+        "--csv",
+        &path("file.csv"),
+        "--svg",
+        &path("file.svg"),
+    ]);
+    assert!(run.contains("modal, 14 modes"), "{run}");
+    let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
+    let (job, file) = (read("job.csv"), read("file.csv"));
+    assert_eq!(job.lines().count(), 2002);
+    let peak = job
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(2).unwrap().parse::<f64>().unwrap())
+        .fold(0.0f64, f64::min);
+    assert!(peak < -0.5, "{peak}");
+    assert_eq!(job, file);
+    let _ = std::fs::remove_dir_all(&dir);
+}

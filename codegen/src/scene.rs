@@ -63,7 +63,8 @@ pub struct RawBody {
     pub modes: Option<Spanned<i64>>,
     pub reduction: Option<Spanned<String>>,
     pub boundary_nodes: Option<Spanned<Vec<i64>>>,
-    pub modal_damping: Option<Spanned<Vec<f64>>>,
+    pub modal_damping: Option<Spanned<toml::Value>>,
+    pub static_modes: Option<Spanned<bool>>,
     // Rigid.
     pub mass: Option<Spanned<f64>>,
     pub inertia: Option<Spanned<toml::Value>>,

@@ -693,9 +693,7 @@ fn build(
                 .expect("every flexible body has a model")
                 .clone();
             let stiffening = model.stiffening;
-            if rb.modes.is_some() || rb.reduction.is_some() {
-                return Err(c.err(span.clone(), format!("body `{name_s}`: modal bodies (`modes`, `reduction`) are not available in scene files yet")));
-            }
+            let modal = modal_settings(c, name_s, rb, n as usize)?;
             let (params, given, params_span) = parse_params(c, name_s, rb, span.clone())?;
             let shape_s = shape.get_ref();
             let resolved = if crate::codegen::Shape::builtin(shape_s).is_some() {
@@ -746,9 +744,34 @@ fn build(
             }
             let kb = KernelBody::new(kernels, params, n as usize, reference)
                 .map_err(|e| c.err(span.clone(), format!("body `{name_s}`: {e}")))?;
-            kernels_used.push((name_s.clone(), path.to_string()));
+            let boxed: Box<dyn Body> = match &modal {
+                None => {
+                    kernels_used.push((name_s.clone(), path.to_string()));
+                    Box::new(kb)
+                }
+                Some((settings, modes_span)) => {
+                    let b = &spec.beam;
+                    let mb = crate::modal::ReducibleBody::from_parts(
+                        &b.shape,
+                        b.elements,
+                        b.reference,
+                        b.formalism,
+                        b.params,
+                    )
+                    .and_then(|r| r.runtime_body(settings, stiffening, Box::new(kb)))
+                    .map_err(|e| c.err(modes_span.clone(), format!("body `{name_s}`: {e}")))?;
+                    kernels_used.push((
+                        name_s.clone(),
+                        format!(
+                            "modal, {} modes ({path} full body for markers)",
+                            mb.layout().nf
+                        ),
+                    ));
+                    Box::new(mb)
+                }
+            };
             flex.push(spec);
-            Box::new(kb)
+            boxed
         };
         let id = sys
             .add_body(name_s, boxed, pose)
@@ -1244,4 +1267,114 @@ fn output(
 /// The scene files shipped with ffr (`scenes/`).
 pub fn builtin_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes")
+}
+
+/// The modal reduction a flexible body's keys ask for (`modes`, `reduction`,
+/// `boundary_nodes`, `static_modes`, `modal_damping`), with the span errors
+/// about it point at; `None` without `modes`.
+#[allow(clippy::type_complexity)]
+fn modal_settings(
+    c: &Ctx,
+    name: &str,
+    rb: &crate::codegen::scene::RawBody,
+    elements: usize,
+) -> Result<Option<(crate::modal::ModalSettings, std::ops::Range<usize>)>, SceneError> {
+    let Some(modes) = &rb.modes else {
+        for (key, span) in [
+            ("reduction", rb.reduction.as_ref().map(|x| x.span())),
+            (
+                "boundary_nodes",
+                rb.boundary_nodes.as_ref().map(|x| x.span()),
+            ),
+            ("static_modes", rb.static_modes.as_ref().map(|x| x.span())),
+            ("modal_damping", rb.modal_damping.as_ref().map(|x| x.span())),
+        ] {
+            if let Some(span) = span {
+                return Err(c.err(
+                    span,
+                    format!("body `{name}`: `{key}` needs `modes = K` (a modal body)"),
+                ));
+            }
+        }
+        return Ok(None);
+    };
+    let k = *modes.get_ref();
+    if !(1..=4096).contains(&k) {
+        return Err(c.err(
+            modes.span(),
+            format!("body `{name}`: `modes` must be a positive number of normal modes, found {k}"),
+        ));
+    }
+    let cb =
+        match rb
+            .reduction
+            .as_ref()
+            .map(|r| (r.get_ref().as_str(), r.span()))
+        {
+            None | Some(("modal", _)) => false,
+            Some(("craig-bampton", _)) => true,
+            Some((other, span)) => return Err(c.err(
+                span,
+                format!(
+                    "body `{name}`: `reduction` is \"modal\" or \"craig-bampton\", found `{other}`"
+                ),
+            )),
+        };
+    let boundary = match (&rb.boundary_nodes, cb) {
+        (Some(b), false) => {
+            return Err(c.err(
+                b.span(),
+                format!("body `{name}`: `boundary_nodes` is for `reduction = \"craig-bampton\"`"),
+            ))
+        }
+        (Some(b), true) => {
+            let mut out = Vec::new();
+            for &node in b.get_ref() {
+                if !(0..=elements as i64).contains(&node) {
+                    return Err(c.err(
+                        b.span(),
+                        format!("body `{name}`: boundary node {node} out of range: the body has nodes 0 to {elements}"),
+                    ));
+                }
+                out.push(node as usize);
+            }
+            if out.is_empty() {
+                return Err(c.err(
+                    b.span(),
+                    format!("body `{name}`: `boundary_nodes` is empty"),
+                ));
+            }
+            out
+        }
+        (None, true) => vec![elements],
+        (None, false) => Vec::new(),
+    };
+    let damping = match &rb.modal_damping {
+        None => Vec::new(),
+        Some(v) => {
+            let num = |x: &toml::Value| x.as_float().or_else(|| x.as_integer().map(|i| i as f64));
+            let zs: Option<Vec<f64>> = match v.get_ref() {
+                toml::Value::Array(a) => a.iter().map(num).collect(),
+                x => num(x).map(|z| vec![z]),
+            };
+            let zs = zs
+                .filter(|zs| !zs.is_empty() && zs.iter().all(|z| z.is_finite() && *z >= 0.0))
+                .ok_or_else(|| {
+                    c.err(
+                        v.span(),
+                        format!("body `{name}`: `modal_damping` is a ratio ζ ≥ 0 for every normal mode, or a list of one per normal mode"),
+                    )
+                })?;
+            zs
+        }
+    };
+    Ok(Some((
+        crate::modal::ModalSettings {
+            modes: k as usize,
+            boundary,
+            static_modes: rb.static_modes.as_ref().is_none_or(|s| *s.get_ref()),
+            damping,
+        },
+        modes.span(),
+    )))
 }
