@@ -169,7 +169,14 @@ pub enum BodyModel {
     /// it measures the published solution with the published discretization.
     /// `elements` is its number of lateral modes, 2.
     SimeonRod,
+    /// Spin-up only: a modal body ([`crate::modal`]) of the
+    /// [`MODAL_MESH`]-element beam: `elements` is its number of normal
+    /// modes, with the static modes (inertia loads, modal derivatives).
+    Modal,
 }
+
+/// The mesh the report's modal bodies are reduced from.
+pub const MODAL_MESH: usize = 16;
 
 /// One way of solving a scene, apart from mesh and step: a *method family*
 /// (one line in the diagrams).
@@ -231,6 +238,11 @@ impl Method {
         if self.body == BodyModel::SimeonRod {
             return format!("ffr-{}-simeon-rod", self.scheme.tag());
         }
+        let modal = if self.body == BodyModel::Modal {
+            format!("-modal{MODAL_MESH}")
+        } else {
+            String::new()
+        };
         let st = match self.stiffening {
             Stiffening::Off => "linear",
             Stiffening::SecondOrder => "2nd",
@@ -240,7 +252,7 @@ impl Method {
             Formalism::Consistent => "consistent",
             Formalism::Lumped => "lumped",
         };
-        let mut s = format!("ffr-{}-{f}-{st}", self.scheme.tag());
+        let mut s = format!("ffr-{}-{f}-{st}{modal}", self.scheme.tag());
         if self.tape {
             s.push_str("-tape");
         }
@@ -258,7 +270,8 @@ pub struct Case {
     pub scene: Scene,
     /// Method family.
     pub method: Method,
-    /// Number of elements (lateral modes for [`BodyModel::SimeonRod`]).
+    /// Number of elements (lateral modes for [`BodyModel::SimeonRod`],
+    /// normal modes for [`BodyModel::Modal`]).
     pub elements: usize,
     /// Time step (s).
     pub dt: f64,
@@ -469,15 +482,26 @@ fn free_floating(cases: &mut Vec<Case>, full: bool) {
     }
 }
 
-/// Modal bodies with a number of modes: **a hook, not implemented.** ffr
-/// has no modal (reduced) flexible bodies yet. When it has them, return
-/// their cases here (for each scene a method family per integrator with
-/// `BodyModel::Modal { .. }` and `elements` = the number of modes, e.g.
-/// 2, 4, 8), add the variant to [`BodyModel`] and its set-up to
-/// `measure.rs`; the report, the CSV and the diagrams take them as they are.
-/// Until then this returns nothing and `report.md` says so.
-pub fn modal_cases(_scene: Scene, _full: bool) -> Vec<Case> {
-    Vec::new()
+/// Modal bodies: the spin-ups with the [`MODAL_MESH`]-element beam reduced
+/// to 2, 4 and 8 normal modes plus static modes (`elements` = the number of
+/// normal modes), generalized-α ρ∞ = 0.8, fourth-order stiffening — the
+/// method family `ffr-ga0.8-consistent-4th-modal16`, beside the nodal
+/// bodies of the same scene. Other scenes have none.
+pub fn modal_cases(scene: Scene, full: bool) -> Vec<Case> {
+    let mut cases = Vec::new();
+    if !matches!(scene, Scene::SpinUp4 | Scene::SpinUp10) {
+        return cases;
+    }
+    let m = Method {
+        body: BodyModel::Modal,
+        ..Method::new(Scheme::Alpha(0.8), FourthOrder)
+    };
+    if full {
+        add(&mut cases, scene, m, &[2, 4, 8], &[1e-2, 5e-3, 2e-3, 1e-3]);
+    } else {
+        add(&mut cases, scene, m, &[2, 4], &[1e-2]);
+    }
+    cases
 }
 
 impl Grid {

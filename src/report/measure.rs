@@ -224,8 +224,8 @@ fn reference(omega: f64) -> Option<&'static crate::reference::Reference> {
 /// the Exudyn reference, `max_k |y − y_ref| / max_k |y_ref|` over the run's
 /// step times in `[0, 20 s]` (every step is an output time).
 fn run_spin_up(case: &Case, omega: f64) -> Result<Run, Failure> {
-    if case.method.body != BodyModel::Beam {
-        return Err(Failure::new("the spin-up has only the beam body", None));
+    if !matches!(case.method.body, BodyModel::Beam | BodyModel::Modal) {
+        return Err(Failure::new("the spin-up has only the beam body and its modal reductions", None));
     }
     let t_end = case.scene.t_end();
     let reference = reference(omega)
@@ -240,50 +240,26 @@ fn run_spin_up(case: &Case, omega: f64) -> Result<Run, Failure> {
     cfg.formalism = m.formalism;
     cfg.force_tape = m.tape;
     cfg.general = m.general;
-    let (sys, probe) = spin_up::system(&cfg)?;
-    let length = cfg.params.length;
-    let tip = probe.point_shape(length)?;
-    let fo = sys.bodies()[0].f_offset();
-    let n = (t_end / case.dt).ceil() as usize + 2;
-    let (mut t, mut y) = (Vec::with_capacity(n), Vec::with_capacity(n));
-    let mut diverged: Option<Failure> = None;
-    let c0 = thread_cpu_seconds();
-    let res = sys.simulate(t_end, case.dt, &cfg.integrator, |v| {
-        let q = &v.state.q;
-        let mut u = [0.0; 3];
-        for (dof, s, _) in &tip.entries {
-            for k in 0..3 {
-                u[k] += s[k] * q[fo + dof];
-            }
-        }
-        t.push(v.state.t);
-        y.push(u[1]);
-        let norm = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
-        if !(norm <= length) {
-            diverged = Some(Failure::new(
-                format!(
-                    "diverged: tip displacement {norm:.3} m exceeds the beam length {length} m at t = {:.3} s",
-                    v.state.t
-                ),
-                Some(v.state.t),
-            ));
-            return ControlFlow::Break(());
-        }
-        ControlFlow::Continue(())
-    });
-    let cpu_s = thread_cpu_seconds() - c0;
-    let summary = res.map_err(|e| Failure::new(e.to_string(), t.last().copied()))?;
-    if let Some(d) = diverged {
-        return Err(d);
+    if m.body == BodyModel::Modal {
+        cfg.elements = super::grid::MODAL_MESH;
+        cfg.modal = Some(crate::modal::ModalSettings::truncation(case.elements));
     }
-    reached(summary.last.t, t_end, case.dt)?;
+    let r = spin_up::run(&cfg)?;
+    if let Some(d) = r.diverged {
+        return Err(Failure::new(
+            format!("diverged at t = {:.3} s: {}", d.t, d.reason),
+            Some(d.t),
+        ));
+    }
+    let last = r.t.last().copied().unwrap_or(0.0);
+    reached(last, t_end, case.dt)?;
     let (error, _) = reference
-        .error("tip_transverse", &t, &y, t_end)
+        .error("tip_transverse", &r.t, &r.tip_transverse, t_end)
         .ok_or_else(|| Failure::new("the run's times are outside the reference's", None))?;
     Ok(Run {
-        cpu_s,
+        cpu_s: r.cpu,
         error,
-        steps: summary.steps,
+        steps: r.steps,
     })
 }
 
@@ -311,6 +287,9 @@ fn run_slider_crank(case: &Case) -> Result<Run, Failure> {
             (Box::new(spec.body()?), beam_init(&SIMEON_INIT))
         }
         BodyModel::SimeonRod => (simeon_rod(15.0, false), simeon_init(&SIMEON_INIT)),
+        BodyModel::Modal => {
+            return Err(Failure::new("modal bodies are measured on the spin-up only", None))
+        }
     };
     let sc = slider_crank_guided(rod, &init, SliderGuide::Prismatic)?;
     let labels = sc.system.body(sc.rod).layout().labels.clone();
@@ -327,7 +306,7 @@ fn run_slider_crank(case: &Case) -> Result<Run, Failure> {
     let q_f = &summary.last.q[fo..fo + nf];
     let a1 = match m.body {
         BodyModel::Beam => sine_amplitude(&labels, q_f, 1),
-        BodyModel::SimeonRod => q_f[0],
+        BodyModel::SimeonRod | BodyModel::Modal => q_f[0],
     };
     Ok(Run {
         cpu_s,
