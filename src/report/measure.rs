@@ -225,7 +225,10 @@ fn reference(omega: f64) -> Option<&'static crate::reference::Reference> {
 /// step times in `[0, 20 s]` (every step is an output time).
 fn run_spin_up(case: &Case, omega: f64) -> Result<Run, Failure> {
     if !matches!(case.method.body, BodyModel::Beam | BodyModel::Modal) {
-        return Err(Failure::new("the spin-up has only the beam body and its modal reductions", None));
+        return Err(Failure::new(
+            "the spin-up has only the beam body and its modal reductions",
+            None,
+        ));
     }
     let t_end = case.scene.t_end();
     let reference = reference(omega)
@@ -288,7 +291,10 @@ fn run_slider_crank(case: &Case) -> Result<Run, Failure> {
         }
         BodyModel::SimeonRod => (simeon_rod(15.0, false), simeon_init(&SIMEON_INIT)),
         BodyModel::Modal => {
-            return Err(Failure::new("modal bodies are measured on the spin-up only", None))
+            return Err(Failure::new(
+                "modal bodies are measured on the spin-up only",
+                None,
+            ))
         }
     };
     let sc = slider_crank_guided(rod, &init, SliderGuide::Prismatic)?;
