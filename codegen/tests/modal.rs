@@ -399,6 +399,9 @@ fn craig_bampton_with_all_interior_modes_spans_the_full_space() {
                     }
                     assert_eq!(b.labels[j], format!("constraint_{}", dofs[*dof]));
                 }
+                ModeKind::Static { load } => {
+                    panic!("craig_bampton adds no static modes, found `static_{load}`")
+                }
             }
         }
     }
