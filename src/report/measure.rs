@@ -266,6 +266,30 @@ fn run_spin_up(case: &Case, omega: f64) -> Result<Run, Failure> {
     })
 }
 
+/// A drift-measured run's outcome: the integrator's error (at `t_last`), a
+/// divergence the observer stopped at, or a run short of `t_end` is a
+/// failure; else the run with its CPU time and largest drift.
+fn finish(
+    res: crate::runtime::Result<crate::runtime::Summary>,
+    diverged: Option<Failure>,
+    t_last: f64,
+    t_end: f64,
+    dt: f64,
+    cpu_s: f64,
+    drift: f64,
+) -> Result<Run, Failure> {
+    let summary = res.map_err(|e| Failure::new(e.to_string(), Some(t_last)))?;
+    if let Some(d) = diverged {
+        return Err(d);
+    }
+    reached(summary.last.t, t_end, dt)?;
+    Ok(Run {
+        cpu_s,
+        error: drift,
+        steps: summary.steps,
+    })
+}
+
 /// Slider crank: relative error of the rod's first lateral sine-mode
 /// amplitude at `t = 0.1 s` against the published `q₁` (the quantity the
 /// benchmark's `q₁` is; for Simeon's rod its own `q₁`).
@@ -378,16 +402,7 @@ fn run_pendulum(case: &Case) -> Result<Run, Failure> {
         ControlFlow::Continue(())
     });
     let cpu_s = thread_cpu_seconds() - c0;
-    let summary = res.map_err(|e| Failure::new(e.to_string(), Some(t_last)))?;
-    if let Some(d) = diverged {
-        return Err(d);
-    }
-    reached(summary.last.t, t_end, case.dt)?;
-    Ok(Run {
-        cpu_s,
-        error: drift,
-        steps: summary.steps,
-    })
+    finish(res, diverged, t_last, t_end, case.dt, cpu_s, drift)
 }
 
 /// Free-floating body: `max(max_t |p − p₀|/|p₀|, max_t |H − H₀|/|H₀|)` over
@@ -445,14 +460,5 @@ fn run_free_floating(case: &Case) -> Result<Run, Failure> {
         ControlFlow::Continue(())
     });
     let cpu_s = thread_cpu_seconds() - c0;
-    let summary = res.map_err(|e| Failure::new(e.to_string(), Some(t_last)))?;
-    if let Some(d) = diverged {
-        return Err(d);
-    }
-    reached(summary.last.t, t_end, case.dt)?;
-    Ok(Run {
-        cpu_s,
-        error: drift,
-        steps: summary.steps,
-    })
+    finish(res, diverged, t_last, t_end, case.dt, cpu_s, drift)
 }

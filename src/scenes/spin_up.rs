@@ -190,11 +190,8 @@ pub fn interpolate(ts: &[f64], ys: &[f64], t: f64) -> Option<f64> {
     Some(ys[i - 1] * (1.0 - w) + ys[i] * w)
 }
 
-/// The spin-up system: the beam clamped to the hub (its frame origin fixed
-/// at the global origin) with the hub angle prescribed.
-pub fn system(
-    cfg: &SpinUp,
-) -> Result<(System<KernelBody<Kernels>>, KernelBody<Kernels>), Box<dyn std::error::Error>> {
+/// `ω_s` finite and `T > 0`, or an error naming them.
+fn check_drive(cfg: &SpinUp) -> Result<(), Box<dyn std::error::Error>> {
     if !(cfg.omega_s.is_finite() && cfg.t_ramp > 0.0 && cfg.t_ramp.is_finite()) {
         return Err(format!(
             "spin-up needs a finite ω_s and T > 0 (got {}, {})",
@@ -202,8 +199,15 @@ pub fn system(
         )
         .into());
     }
-    let body = cfg.beam().body()?;
-    let probe = cfg.beam().body()?;
+    Ok(())
+}
+
+/// A planar or spatial system of `body` alone, its frame origin at the
+/// global origin and its angle about z prescribed by the spin-up driver.
+fn hub_system<B: crate::runtime::Body>(
+    cfg: &SpinUp,
+    body: B,
+) -> Result<System<B>, Box<dyn std::error::Error>> {
     let mut sys = if cfg.spatial {
         System::spatial()
     } else {
@@ -211,6 +215,18 @@ pub fn system(
     };
     let b = sys.add_body("beam", body, Pose::identity(sys.dim()))?;
     sys.prescribe_rotation_about_z(b, cfg.driver())?;
+    Ok(sys)
+}
+
+/// The spin-up system: the beam clamped to the hub (its frame origin fixed
+/// at the global origin) with the hub angle prescribed.
+pub fn system(
+    cfg: &SpinUp,
+) -> Result<(System<KernelBody<Kernels>>, KernelBody<Kernels>), Box<dyn std::error::Error>> {
+    check_drive(cfg)?;
+    let body = cfg.beam().body()?;
+    let probe = cfg.beam().body()?;
+    let sys = hub_system(cfg, body)?;
     Ok((sys, probe))
 }
 
@@ -248,25 +264,13 @@ pub fn modal_system(
     cfg: &SpinUp,
     settings: &ModalSettings,
 ) -> Result<(System<ModalBody>, PointShape), Box<dyn std::error::Error>> {
-    if !(cfg.omega_s.is_finite() && cfg.t_ramp > 0.0 && cfg.t_ramp.is_finite()) {
-        return Err(format!(
-            "spin-up needs a finite ω_s and T > 0 (got {}, {})",
-            cfg.omega_s, cfg.t_ramp
-        )
-        .into());
-    }
+    check_drive(cfg)?;
     if cfg.force_tape {
         return Err("a modal body does not run on tapes (--tape)".into());
     }
     let body = modal_body(&cfg.beam(), settings)?;
     let tip = crate::runtime::Body::point_shape(&body, cfg.params.length)?;
-    let mut sys = if cfg.spatial {
-        System::spatial()
-    } else {
-        System::planar()
-    };
-    let b = sys.add_body("beam", body, Pose::identity(sys.dim()))?;
-    sys.prescribe_rotation_about_z(b, cfg.driver())?;
+    let sys = hub_system(cfg, body)?;
     Ok((sys, tip))
 }
 
@@ -357,13 +361,7 @@ fn simulate<B: crate::runtime::Body>(
 pub fn joint_driven_system(
     cfg: &SpinUp,
 ) -> Result<(System<KernelBody<Kernels>>, KernelBody<Kernels>), Box<dyn std::error::Error>> {
-    if !(cfg.omega_s.is_finite() && cfg.t_ramp > 0.0 && cfg.t_ramp.is_finite()) {
-        return Err(format!(
-            "spin-up needs a finite ω_s and T > 0 (got {}, {})",
-            cfg.omega_s, cfg.t_ramp
-        )
-        .into());
-    }
+    check_drive(cfg)?;
     let mut spec = cfg.beam();
     spec.scene_dim = Some(3);
     spec.frame = FrameModel::Free;
