@@ -65,6 +65,8 @@ struct BodyScratch {
     frame_rows: bool,
     /// Skip the body entirely (every coordinate prescribed).
     skip: bool,
+    /// Scratch of length `n_f` (momenta, damping power).
+    vf: Vec<f64>,
 }
 
 /// The assembled equations of a [`System`].
@@ -313,6 +315,7 @@ impl<'s, B: Body> Assembly<'s, B> {
                 damping,
                 frame_rows: frame_free,
                 skip: all_fixed,
+                vf: vec![0.0; b.nf],
             });
         }
         let mut mult_slot = Vec::with_capacity(m);
@@ -929,6 +932,100 @@ impl<'s, B: Body> Assembly<'s, B> {
         }
     }
 
+    /// Every constraint row at `(t, q)` densely, for set-up checks (the
+    /// initial projection, redundancy): `phi` (m) gets `Φ`, `phi_t` (m)
+    /// `∂Φ/∂t`, `jac` (m × n, zeroed first) `Φ_q` over all coordinates,
+    /// prescribed ones included. Allocation-free, but `O(m n)` storage: not
+    /// for a step.
+    pub fn constraints_dense(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        phi: &mut [f64],
+        phi_t: &mut [f64],
+        jac: &mut nalgebra::DMatrix<f64>,
+    ) {
+        jac.fill(0.0);
+        for &(i, row) in &self.norm_rows {
+            let o = self.sys.bodies[i].offset + 3;
+            let e = &q[o..o + 4];
+            phi[row] = 0.5 * (e.iter().map(|x| x * x).sum::<f64>() - 1.0);
+            phi_t[row] = 0.0;
+            for k in 0..4 {
+                jac[(row, o + k)] = e[k];
+            }
+        }
+        for (c, cw) in self.sys.constraints.iter().zip(self.cons.iter_mut()) {
+            cw.ka.eval(&c.a, q);
+            cw.kb.eval(&c.b, q);
+            for (k, (row, re)) in c.rows.iter().zip(cw.rows.iter_mut()).enumerate() {
+                re.eval(row, &cw.ka, &cw.kb, t);
+                let r = cw.first + k;
+                phi[r] = re.phi;
+                phi_t[r] = re.phi_t;
+                for (i, &g) in cw.ka.idx.iter().chain(&cw.kb.idx).enumerate() {
+                    jac[(r, g)] += re.grad[i];
+                }
+            }
+        }
+    }
+
+    /// The joint (index into [`System::constraints`]) that constraint row
+    /// `k` belongs to, and the row's place in it; `None` for an
+    /// Euler-parameter normalization row.
+    pub fn row_owner(&self, k: usize) -> Option<(usize, usize)> {
+        self.sys
+            .constraints
+            .iter()
+            .zip(&self.cons)
+            .enumerate()
+            .find(|(_, (c, cw))| (cw.first..cw.first + c.rows.len()).contains(&k))
+            .map(|(j, (_, cw))| (j, k - cw.first))
+    }
+
+    /// The diagonal entries `M_cc` of the mass matrix at `q` for the
+    /// coordinates `coords` (twice the kinetic energy at the unit velocity
+    /// of each), for weighting set-up projections.
+    pub fn mass_diagonal(&mut self, q: &[f64], coords: &[usize]) -> Vec<f64> {
+        let mut out = vec![0.0; coords.len()];
+        for i in 0..self.sys.bodies.len() {
+            let b = &self.sys.bodies[i];
+            let (o, d, nth, nf) = (b.offset, b.d, b.n_theta, b.nf);
+            let f0 = o + d + nth;
+            let mine: Vec<usize> = (0..coords.len())
+                .filter(|&k| (o..f0 + nf).contains(&coords[k]))
+                .collect();
+            if mine.is_empty() {
+                continue;
+            }
+            let rot = Rotation::new(&q[o + d..f0]);
+            let sc = &mut self.bodies[i];
+            b.body.mass(&q[f0..f0 + nf], &mut sc.work, &mut sc.mass);
+            for k in mine {
+                let c = coords[k] - o;
+                let mut rd = Vector3::zeros();
+                let mut th = [0.0; 4];
+                let mut vf = vec![0.0; nf];
+                if c < d {
+                    rd[c] = 1.0;
+                } else if c < d + nth {
+                    th[c - d] = 1.0;
+                } else {
+                    vf[c - d - nth] = 1.0;
+                }
+                let vb = rot.a.transpose() * rd;
+                let w = rot.omega(&th[..nth]);
+                let (h, mf) = sc.mass.momenta(&[vb.x, vb.y, vb.z], &[w.x, w.y, w.z], &vf);
+                let mut t = vb.dot(&v3(&h[0..3])) + w.dot(&v3(&h[3..6]));
+                for a in 0..nf {
+                    t += vf[a] * mf[a];
+                }
+                out[k] = t;
+            }
+        }
+        out
+    }
+
     /// Factor the matrix in the solver.
     pub fn factor(&mut self, t: f64, what: &'static str) -> Result<()> {
         match self.solver.factor() {
@@ -1052,12 +1149,15 @@ impl<'s, B: Body> Assembly<'s, B> {
             }
             let vb = rot.a.transpose() * rd;
             let w = rot.omega(&v[o + d..f0]);
-            let (h, mf) = sc
-                .mass
-                .momenta(&[vb.x, vb.y, vb.z], &[w.x, w.y, w.z], &v[f0..f0 + nf]);
+            let h = sc.mass.momenta_into(
+                &[vb.x, vb.y, vb.z],
+                &[w.x, w.y, w.z],
+                &v[f0..f0 + nf],
+                &mut sc.vf,
+            );
             let mut t = vb.dot(&v3(&h[0..3])) + w.dot(&v3(&h[3..6]));
             for k in 0..nf {
-                t += v[f0 + k] * mf[k];
+                t += v[f0 + k] * sc.vf[k];
             }
             e.kinetic += 0.5 * t;
             e.elastic += b.body.elastic_energy(&q[f0..f0 + nf], &mut sc.work);
@@ -1080,13 +1180,13 @@ impl<'s, B: Body> Assembly<'s, B> {
     /// ([`crate::Power`]).
     pub fn power(&mut self, t: f64, q: &[f64], v: &[f64]) -> crate::Power {
         let mut p = crate::Power::default();
-        for (b, sc) in self.sys.bodies.iter().zip(&self.bodies) {
+        for (b, sc) in self.sys.bodies.iter().zip(self.bodies.iter_mut()) {
             if let Some(dm) = &sc.damping {
                 let f0 = b.offset + b.d + b.n_theta;
                 let vf = &v[f0..f0 + b.nf];
-                let mut dv = vec![0.0; b.nf];
-                dm.mul_add(vf, 1.0, &mut dv);
-                p.dissipated += vf.iter().zip(&dv).map(|(a, b)| a * b).sum::<f64>();
+                sc.vf.iter_mut().for_each(|x| *x = 0.0);
+                dm.mul_add(vf, 1.0, &mut sc.vf);
+                p.dissipated += vf.iter().zip(&sc.vf).map(|(a, b)| a * b).sum::<f64>();
             }
         }
         for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {

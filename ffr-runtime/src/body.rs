@@ -239,6 +239,20 @@ impl BodyMass {
     /// momentum about the frame origin `h̄ = S̃_t v̄ + Ī_θθ ω + Ī_θf q̇_f`
     /// (body axes) and `M_f v`.
     pub fn momenta(&self, v: &[f64; 3], w: &[f64; 3], qd_f: &[f64]) -> ([f64; 6], Vec<f64>) {
+        let mut mf = vec![0.0; qd_f.len()];
+        let h = self.momenta_into(v, w, qd_f, &mut mf);
+        (h, mf)
+    }
+
+    /// [`BodyMass::momenta`] without allocating: the elastic part into `mf`
+    /// (length `n_f`), the frame part returned.
+    pub fn momenta_into(
+        &self,
+        v: &[f64; 3],
+        w: &[f64; 3],
+        qd_f: &[f64],
+        mf: &mut [f64],
+    ) -> [f64; 6] {
         let nf = qd_f.len();
         let vw = [v[0], v[1], v[2], w[0], w[1], w[2]];
         let mut h = [0.0; 6];
@@ -252,14 +266,14 @@ impl BodyMass {
             }
             h[r] = s;
         }
-        let mut mf = vec![0.0; nf];
-        self.m_ff.mul_add(qd_f, 1.0, &mut mf);
+        mf.iter_mut().for_each(|x| *x = 0.0);
+        self.m_ff.mul_add(qd_f, 1.0, mf);
         for a in 0..nf {
             for k in 0..6 {
                 mf[a] += self.m_f_frame[a * 6 + k] * vw[k];
             }
         }
-        (h, mf)
+        h
     }
 }
 

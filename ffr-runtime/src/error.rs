@@ -72,6 +72,29 @@ pub enum Error {
         /// Time of the evaluation.
         t: f64,
     },
+    /// A joint that the initial state cannot satisfy, or that repeats what
+    /// other joints already impose (found when the initial state is made
+    /// consistent).
+    #[error("{kind} joint #{joint}: {reason}")]
+    Joint {
+        /// Index of the joint in [`crate::System::constraints`].
+        joint: usize,
+        /// Its kind (`revolute`, …).
+        kind: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The run was stopped by the divergence monitor: its result would not
+    /// be valid although every number is still finite.
+    #[error("the run diverged at t = {t:.6} s (step {step}): {reason}")]
+    Diverged {
+        /// Steps completed.
+        step: usize,
+        /// Time reached.
+        t: f64,
+        /// Which bound was exceeded, with the numbers.
+        reason: String,
+    },
     /// Initial conditions could not be made consistent with the constraints.
     #[error(
         "inconsistent initial conditions: constraint violation {violation:.3e} after projection"

@@ -274,6 +274,16 @@ impl<B: Body> System<B> {
         let mut w = Work::new(&asm);
         let mut state = initial_state(&mut asm, &mut w.lin, 0.0)?;
         w.acc.copy_from_slice(&state.a);
+        let mut watch = if self.monitor.enabled {
+            Some(crate::monitor::Watch::new(
+                &mut asm,
+                self.monitor,
+                &state,
+                t_end,
+            )?)
+        } else {
+            None
+        };
         let mut summary = Summary {
             steps: 0,
             last: state.clone(),
@@ -308,6 +318,9 @@ impl<B: Body> System<B> {
             };
             summary.newton_iterations += iters;
             summary.steps = step + 1;
+            if let Some(w) = &mut watch {
+                w.after_step(&mut asm, &state, &summary)?;
+            }
             let mut view = StepView {
                 step: step + 1,
                 state: &state,
@@ -346,44 +359,7 @@ fn initial_state<B: Body>(asm: &mut Assembly<B>, w: &mut Lin, t0: f64) -> Result
             "non-finite initial state or prescribed motion at t = {t0}"
         )));
     }
-    let lam0 = w.lam0.clone();
-    if m > 0 {
-        let scale = 1.0 + q.iter().fold(0.0f64, |s, x| s.max(x.abs()));
-        let mut violation = f64::INFINITY;
-        for _ in 0..50 {
-            asm.residual(t0, &q, &v, &a, &lam0, &mut w.r);
-            violation = w.r[n..].iter().fold(0.0f64, |s, x| s.max(x.abs()));
-            if violation <= 1e-13 * scale {
-                break;
-            }
-            asm.mass_system(t0, &q);
-            asm.factor(t0, "initial projection [M Φ_qᵀ; Φ_q 0]")?;
-            w.rhs[..n].iter_mut().for_each(|x| *x = 0.0);
-            for k in 0..m {
-                w.rhs[n + k] = -w.r[n + k];
-            }
-            asm.solve(&w.rhs, &mut w.x);
-            for c in 0..n {
-                q[c] += w.x[c];
-            }
-        }
-        if !(violation <= 1e-10 * scale) {
-            return Err(Error::Inconsistent { violation });
-        }
-        // Velocities: M Δv + Φ_qᵀ μ = 0, Φ_q Δv = −(Φ_q v + Φ_t).
-        asm.residual(t0, &q, &v, &a, &lam0, &mut w.r);
-        asm.velocity_violation(&v, &q, &mut w.vv);
-        asm.mass_system(t0, &q);
-        asm.factor(t0, "initial projection [M Φ_qᵀ; Φ_q 0]")?;
-        w.rhs[..n].iter_mut().for_each(|x| *x = 0.0);
-        for k in 0..m {
-            w.rhs[n + k] = -w.vv[k];
-        }
-        asm.solve(&w.rhs, &mut w.x);
-        for c in 0..n {
-            v[c] += w.x[c];
-        }
-    }
+    crate::initial::make_consistent(asm, t0, &mut q, &mut v)?;
     let mut lam = vec![0.0; m];
     accelerations(asm, w, t0, &q, &v, &mut a, &mut lam, (0.0, 0.0))?;
     Ok(State {

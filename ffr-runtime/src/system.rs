@@ -85,6 +85,10 @@ pub struct BodyEntry<B> {
     pub nf: usize,
     /// Rayleigh damping of the elastic coordinates.
     pub damping: Option<Rayleigh>,
+    /// Whether an initial elastic state was given ([`System::set_elastic`]):
+    /// only then may the initial projection onto the joints move the
+    /// elastic coordinates.
+    pub elastic_state: bool,
 }
 
 impl<B> BodyEntry<B> {
@@ -108,6 +112,7 @@ pub struct System<B: Body = Box<dyn Body>> {
     pub(crate) constraints: Vec<Constraint>,
     pub(crate) forces: Vec<ForceElement>,
     pub(crate) gravity: Vector3<f64>,
+    pub(crate) monitor: crate::monitor::Monitor,
 }
 
 impl<B: Body> System<B> {
@@ -131,7 +136,18 @@ impl<B: Body> System<B> {
             constraints: Vec::new(),
             forces: Vec::new(),
             gravity: Vector3::zeros(),
+            monitor: crate::monitor::Monitor::default(),
         }
+    }
+
+    /// The divergence monitor's bounds ([`crate::monitor`]; on by default).
+    pub fn monitor(&self) -> crate::monitor::Monitor {
+        self.monitor
+    }
+    /// Set the divergence monitor's bounds (`Monitor::off()` to follow a
+    /// run past its validity, e.g. in a stability study).
+    pub fn set_monitor(&mut self, monitor: crate::monitor::Monitor) {
+        self.monitor = monitor;
     }
 
     /// Scene dimension (2 or 3).
@@ -223,6 +239,7 @@ impl<B: Body> System<B> {
             n_theta: nth,
             nf,
             damping: None,
+            elastic_state: false,
         });
         Ok(BodyId(id))
     }
@@ -308,6 +325,7 @@ impl<B: Body> System<B> {
         }
         self.q0[o..o + nf].copy_from_slice(q_f);
         self.v0[o..o + nf].copy_from_slice(qd_f);
+        self.bodies[id.0].elastic_state = true;
         Ok(())
     }
 

@@ -185,6 +185,10 @@ impl KernelProvider for DefaultKernels {
     }
 }
 
+/// The most values a scene run records (`t` and every output at every
+/// step), checked at load time: 2²⁵ values (256 MiB as numbers, about 0.7 GB as CSV text).
+pub const MAX_RECORDED_VALUES: usize = 1 << 25;
+
 /// A loaded scene, ready to run.
 pub struct Scene {
     /// The file it came from.
@@ -871,9 +875,15 @@ fn build(
         sys.set_gravity(gv)
             .map_err(|e| c.err(g.span(), e.to_string()))?;
     }
-    // Joints.
+    // Joints; `joint_spans[k]` is where constraint `k` of the system was
+    // written (a joint with a drive adds two).
+    let mut joint_spans: Vec<Range<usize>> = Vec::new();
     for (ji, jr) in raw.joints.iter().enumerate() {
         let j = jr;
+        if let Some(prev) = ji.checked_sub(1) {
+            let span = raw.joints[prev].span();
+            joint_spans.resize(sys.constraints().len(), span);
+        }
         let kind = jr.kind.get_ref().as_str();
         let bm = b.marker(&sys, &jr.b)?;
         if kind == "ground" {
@@ -965,6 +975,9 @@ fn build(
                 .map_err(|e| c.err(m.span(), e.to_string()))?;
         }
     }
+    if let Some(last) = raw.joints.last() {
+        joint_spans.resize(sys.constraints().len(), last.span());
+    }
     // Forces.
     for f in &raw.forces {
         force(c, &b, &mut sys, f)?;
@@ -985,6 +998,34 @@ fn build(
         outputs.push(out);
     }
     let _ = ids;
+    // The recorded run must fit in memory: every output and `t` at every step.
+    let values = (t_end / dt + 2.0) * (outputs.len() + 1) as f64;
+    if values > MAX_RECORDED_VALUES as f64 {
+        return Err(c.err(
+            raw.dt.span(),
+            format!(
+                "t_end / dt = {:.3e} steps × {} columns (t and {} outputs) = {values:.3e} recorded values: more than the limit of {MAX_RECORDED_VALUES} ({} MiB of memory); use a larger `dt`, a shorter `t_end` or fewer outputs",
+                t_end / dt,
+                outputs.len() + 1,
+                outputs.len(),
+                MAX_RECORDED_VALUES * 8 >> 20
+            ),
+        ));
+    }
+    // The initial state: the joints must close by moving the bodies' frames
+    // (or the elastic states the scene gives), and none may be redundant.
+    if let Err(crate::runtime::Error::Joint {
+        joint,
+        kind,
+        reason,
+    }) = sys.initial_state(0.0)
+    {
+        let span = joint_spans
+            .get(joint)
+            .cloned()
+            .unwrap_or_else(|| raw.dt.span());
+        return Err(c.err(span, format!("{kind} joint: {reason}")));
+    }
     Ok(Scene {
         origin: c.file.to_string(),
         description: raw.description,

@@ -45,7 +45,10 @@ pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
             )
         })
         .collect();
-    let n = (scene.t_end / scene.dt).ceil() as usize + 2;
+    // Reserve for the whole run only up to a bound: the loader checked that
+    // the recorded values fit (`super::load::MAX_RECORDED_VALUES`), and a
+    // run that stops early should not have taken the memory of its end.
+    let n = ((scene.t_end / scene.dt).ceil() as usize + 2).min(1 << 16);
     let mut out = SceneRun {
         names: scene.outputs.iter().map(|o| o.name.clone()).collect(),
         t: Vec::with_capacity(n),
@@ -67,7 +70,11 @@ pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
     let (mut work, mut dissipated) = (0.0, 0.0);
     let mut last_power: Option<(f64, crate::runtime::Power)> = None;
     let start = std::time::Instant::now();
+    // Steps and Newton iterations so far (a failed run reports how far it got).
+    let (mut steps, mut iterations) = (0, 0);
     let res = sys.simulate(scene.t_end, scene.dt, &scene.integrator, |v| {
+        steps = v.step;
+        iterations += v.iterations;
         let (q, qd) = (&v.state.q, &v.state.v);
         out.t.push(v.state.t);
         if wants_power {
@@ -147,11 +154,16 @@ pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
             out.last = Some(s.last);
         }
         Err(e) => match e {
-            crate::runtime::Error::NoConvergence { .. }
+            crate::runtime::Error::Diverged { .. }
+            | crate::runtime::Error::NoConvergence { .. }
             | crate::runtime::Error::NonFinite { .. }
             | crate::runtime::Error::Unstable { .. }
             | crate::runtime::Error::Singular { .. }
-            | crate::runtime::Error::StepFailed { .. } => out.failed = Some(e.to_string()),
+            | crate::runtime::Error::StepFailed { .. } => {
+                out.steps = steps;
+                out.newton_iterations = iterations;
+                out.failed = Some(e.to_string());
+            }
             other => return Err(other),
         },
     }

@@ -332,7 +332,8 @@ fn simulate<B: crate::runtime::Body>(
             res.splits = s.splits;
         }
         Err(
-            e @ (RtError::NoConvergence { .. }
+            e @ (RtError::Diverged { .. }
+            | RtError::NoConvergence { .. }
             | RtError::NonFinite { .. }
             | RtError::Unstable { .. }
             | RtError::Singular { .. }
