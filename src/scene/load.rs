@@ -1484,22 +1484,23 @@ fn modal_settings(
             format!("body `{name}`: `modes` must be a positive number of normal modes, found {k}"),
         ));
     }
-    let cb =
-        match rb
-            .reduction
-            .as_ref()
-            .map(|r| (r.get_ref().as_str(), r.span()))
-        {
-            None | Some(("modal", _)) => false,
-            Some(("craig-bampton", _)) => true,
-            Some((other, span)) => return Err(c.err(
+    let cb = match rb
+        .reduction
+        .as_ref()
+        .map(|r| (r.get_ref().as_str(), r.span()))
+    {
+        None | Some(("modal", _)) => false,
+        Some(("craig-bampton", _)) => true,
+        Some((other, span)) => {
+            return Err(c.err(
                 span,
                 format!(
                     "body `{name}`: `reduction` is \"modal\" or \"craig-bampton\", found `{other}`",
                     other = q(other)
                 ),
-            )),
-        };
+            ))
+        }
+    };
     let boundary = match (&rb.boundary_nodes, cb) {
         (Some(b), false) => {
             return Err(c.err(
