@@ -232,8 +232,8 @@ fn every_error_names_its_place_and_what_is_allowed() {
                 "kind = \"revolute\"\na = \"rod@x=1.0\"\nb = \"block\"\n",
                 "kind = \"fixed\"\na = \"rod@x=1.0\"\nb = \"block\"\ndrive = { angle = \"constant\", value = 0.0 }\n",
             ),
-            "{ angle = \"constant\"",
-            vec!["a `fixed` joint has no drive", "revolute (angle) and prismatic (slide)"],
+            "drive = { angle = \"constant\"",
+            vec!["`drive` does not apply to a `fixed` joint", "it takes `kind`, `a`, `b`", "revolute (angle) and prismatic (slide)"],
         ),
         // Dimension.
         (
@@ -256,6 +256,345 @@ fn every_error_names_its_place_and_what_is_allowed() {
         for s in says {
             assert!(e.contains(s), "`{e}` should say `{s}`");
         }
+    }
+}
+
+/// Check each case: the error starts with `bad.toml:LINE:COL: ` of the first
+/// occurrence of `at`, says every one of `says`, and is short (no number or
+/// user string echoed at length).
+fn check_cases(cases: &[(String, &str, Vec<&str>)]) {
+    for (text, at, says) in cases {
+        let e = error(text);
+        let want = format!("bad.toml:{}: ", line_col(text, at));
+        println!("{e}");
+        assert!(e.starts_with(&want), "`{e}` should start with `{want}`");
+        for s in says {
+            assert!(e.contains(s), "`{e}` should say `{s}`");
+        }
+        assert!(e.chars().count() < 600, "too long: {e}");
+        assert!(!e.contains("0000000000"), "a number in long form: {e}");
+    }
+}
+
+/// A key that means nothing for its table's kind is an error at the key,
+/// naming the keys that apply (issue 17: such keys were silently ignored, or
+/// one of two keys for the same thing silently won).
+#[test]
+fn keys_that_do_not_apply_are_errors_at_the_key() {
+    let drive = |d: &str| edit("b = \"rod\"\n", &format!("b = \"rod\"\ndrive = {d}\n"));
+    let integrator = |i: &str| edit("dt = 1e-3\n", &format!("dt = 1e-3\nintegrator = {i}\n"));
+    let output = |o: &str| format!("{BASE}\n[[outputs]]\nname = \"extra\"\n{o}\n");
+    let force = |f: &str| format!("{BASE}\n[[forces]]\n{f}\n");
+    let elbow = |j: &str| {
+        edit(
+            "kind = \"revolute\"\na = \"rod@x=1.0\"\nb = \"block\"\n",
+            &format!("a = \"rod@x=1.0\"\nb = \"block\"\n{j}\n"),
+        )
+    };
+    let cases: Vec<(String, &str, Vec<&str>)> = vec![
+        // `rate` next to `omega`: one of them used to win silently.
+        (
+            drive("{ angle = \"constant-rate\", omega = 1.0, rate = 2.0 }"),
+            "rate = 2.0",
+            vec!["`rate` and `omega` both give the rate of profile `constant-rate`", "give one"],
+        ),
+        // RK4's gains under generalized-α, and generalized-α's keys under RK4.
+        (
+            integrator("{ kind = \"generalized-alpha\", alpha = 10.0 }"),
+            "alpha = 10.0",
+            vec!["`alpha` does not apply to the generalized-alpha integrator", "it takes `kind`, `rho_inf`, `rtol`", "`kind = \"rk4\"`"],
+        ),
+        (
+            integrator("{ kind = \"generalized-alpha\", rho_inf = 0.9, beta = 10.0 }"),
+            "beta = 10.0",
+            vec!["`beta` does not apply to the generalized-alpha integrator"],
+        ),
+        (
+            integrator("{ kind = \"rk4\", rho_inf = 0.5 }"),
+            "rho_inf",
+            vec!["`rho_inf` does not apply to the rk4 integrator", "it takes `kind`, `alpha`, `beta`"],
+        ),
+        (
+            integrator("{ kind = \"rk4\", alpha = 5.0, rtol = 1e-8 }"),
+            "rtol",
+            vec!["`rtol` does not apply to the rk4 integrator", "no Newton iteration"],
+        ),
+        // `slide` on a revolute drive, `angle` on a prismatic one.
+        (
+            drive("{ angle = \"constant\", value = 0.0, slide = \"constant\" }"),
+            "slide",
+            vec!["`slide` does not apply to the drive of a `revolute` joint", "it takes `angle = \"PROFILE\"`"],
+        ),
+        (
+            elbow("kind = \"prismatic\"\ndrive = { slide = \"constant\", value = 0.0, angle = \"constant\" }"),
+            "angle = \"constant\" }",
+            vec!["`angle` does not apply to the drive of a `prismatic` joint", "it takes `slide = \"PROFILE\"`"],
+        ),
+        // A profile's keys: `ramp` and `start` mean nothing for `constant`.
+        (
+            drive("{ angle = \"constant\", value = 0.0, ramp = 1.0 }"),
+            "ramp",
+            vec!["`ramp` does not apply to profile `constant`", "it takes `angle`, `value`"],
+        ),
+        (
+            drive("{ angle = \"constant\", value = 0.0, start = 1.0 }"),
+            "start",
+            vec!["`start` does not apply to profile `constant`"],
+        ),
+        (
+            drive("{ angle = \"harmonic\", amplitude = 0.1, frequency = 1.0, omega = 2.0 }"),
+            "omega",
+            vec!["`omega` does not apply to profile `harmonic`", "`amplitude`, `frequency`, `start`, `phase`"],
+        ),
+        (
+            drive("{ angle = \"spin-up\", omega = 1.0, ramp = 1.0, value = 2.0 }"),
+            "value",
+            vec!["`value` does not apply to profile `spin-up`", "`omega`, `ramp`, `start`"],
+        ),
+        // A motor target is an angle profile.
+        (
+            elbow("kind = \"revolute\"\nmotor = { kp = 1.0, target = { slide = \"constant\", value = 0.0 } }"),
+            "slide",
+            vec!["`slide` does not apply to a motor's target", "`angle = \"PROFILE\"`"],
+        ),
+        // A constant-torque motor has no gains; a driven joint no motor.
+        (
+            elbow("kind = \"revolute\"\nmotor = { torque = 1.0, kd = 0.1 }"),
+            "kd",
+            vec!["`kd` does not apply to a constant-torque motor", "it takes `torque`"],
+        ),
+        (
+            elbow("kind = \"revolute\"\ndrive = { angle = \"constant\", value = 0.0 }\nmotor = { torque = 1.0 }"),
+            "motor",
+            vec!["`motor` does not apply to a driven revolute joint", "give `drive` or `motor`"],
+        ),
+        // Joint kinds.
+        (
+            elbow("kind = \"prismatic\"\nmotor = { torque = 1.0 }"),
+            "motor",
+            vec!["`motor` does not apply to a `prismatic` joint", "it takes `kind`, `a`, `b`, `drive`"],
+        ),
+        (
+            edit("kind = \"revolute\"\na = \"ground@[0.0, 0.0]\"\nb = \"rod\"", "kind = \"ground\"\na = \"ground@[0.0, 0.0]\"\nb = \"rod\""),
+            "a = \"ground",
+            vec!["`a` does not apply to a `ground` joint", "it takes `kind`, `b`"],
+        ),
+        // Outputs.
+        (
+            output("kind = \"energy\"\nat = \"rod\""),
+            "at = \"rod\"\n",
+            vec!["`at` does not apply to an `energy` output", "it takes `name`, `kind`, `component`"],
+        ),
+        (
+            output("kind = \"angle\"\nat = \"rod\"\ncomponent = \"z\""),
+            "component = \"z\"",
+            vec!["`component` does not apply to an `angle` output", "it takes `name`, `kind`, `at`, `a`"],
+        ),
+        (
+            output("kind = \"position\"\nat = \"rod\"\ncomponent = \"x\"\na = \"block\""),
+            "a = \"block\"\n",
+            vec!["`a` does not apply to a `position` output"],
+        ),
+        // Forces.
+        (
+            force("kind = \"point\"\nat = \"rod@x=1.0\"\nforce = [0.0, 1.0]\nstiffness = 3.0"),
+            "stiffness = 3.0",
+            vec!["`stiffness` does not apply to a `point` force", "it takes `kind`, `at`, `force`, `axes`"],
+        ),
+        (
+            force("kind = \"spring-damper\"\na = \"ground@[1.0, 0.0]\"\nb = \"rod@x=1.0\"\nstiffness = 3.0\nrest_length = 0.1\nrest_angle = 0.2"),
+            "rest_angle",
+            vec!["`rest_angle` does not apply to a `spring-damper` force", "`rotational-spring-damper`"],
+        ),
+        (
+            force("kind = \"torque\"\na = \"ground@[1.0, 0.0]\"\nb = \"rod@x=1.0\"\ntorque = 1.0\ndamping = 0.1"),
+            "damping = 0.1",
+            vec!["`damping` does not apply to a `torque` force", "it takes `kind`, `a`, `b`, `torque`"],
+        ),
+        // Bodies: flexible keys on a rigid body and rigid ones on a flexible body.
+        (
+            edit("inertia = 1e-3\n", "inertia = 1e-3\nreference = \"pinned\"\n"),
+            "reference",
+            vec!["`reference` does not apply to rigid body `block` (it has `mass`)", "it takes `mass`, `inertia`, `centre`, `position`, `angle`"],
+        ),
+        (
+            edit("inertia = 1e-3\n", "inertia = 1e-3\nstiffening = true\n"),
+            "stiffening",
+            vec!["`stiffening` does not apply to rigid body `block`"],
+        ),
+        (
+            edit("elements = 2\n", "elements = 2\ninertia = 1e-3\n"),
+            "inertia = 1e-3\nparams",
+            vec!["`inertia` does not apply to flexible body `rod` (it has `shape`)", "follows from its shape and `params`"],
+        ),
+        (
+            edit("elements = 2\n", "elements = 2\ncentre = [0.5, 0.0]\n"),
+            "centre",
+            vec!["`centre` does not apply to flexible body `rod`"],
+        ),
+    ];
+    check_cases(&cases);
+}
+
+/// Body names become generated identifiers (`ffr emit --scene`): ASCII Rust
+/// identifiers, not keywords, at most 64 characters, distinct after the
+/// conversion to CamelCase.
+#[test]
+fn body_names_are_identifiers_that_stay_distinct() {
+    let body = |name: &str| format!("{BASE}\n[bodies.{name}]\nmass = 1.0\ninertia = 1.0\n");
+    let long = "b".repeat(20_000);
+    let long_body = body(&long);
+    let two = format!("{BASE}\n[bodies.a_b]\nmass = 1.0\ninertia = 1.0\n\n[bodies.aB]\nmass = 1.0\ninertia = 1.0\n");
+    let cases: Vec<(String, &str, Vec<&str>)> = vec![
+        (
+            two.clone(),
+            "a_b]",
+            vec![
+                "bodies `aB` and `a_b` both give the generated name `AB`",
+                "must differ",
+            ],
+        ),
+        (
+            body("my-arm"),
+            "my-arm",
+            vec![
+                "body name `my-arm` is not a Rust identifier",
+                "the character `-`",
+            ],
+        ),
+        (
+            body("\"2nd\""),
+            "\"2nd\"",
+            vec![
+                "body name `2nd` is not a Rust identifier",
+                "starts with a digit",
+            ],
+        ),
+        (body("fn"), "fn]", vec!["body name `fn` is a Rust keyword"]),
+        (
+            body("Self"),
+            "Self]",
+            vec!["body name `Self` is a Rust keyword"],
+        ),
+        (
+            body("ground"),
+            "ground]",
+            vec!["`ground` cannot name a body"],
+        ),
+        (
+            long_body.clone(),
+            "bbbb",
+            vec!["is 20000 characters long", "at most 64", "…"],
+        ),
+    ];
+    check_cases(&cases);
+    // `ffr emit --scene` refuses the collision too (the generated file
+    // would not compile), at the same place.
+    let dir = std::env::temp_dir().join(format!("ffr-scene-names-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.toml");
+    std::fs::write(&path, &two).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ffr"))
+        .args(["emit", "--scene", &path.display().to_string()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    let want = format!("{}:{}: ", path.display(), line_col(&two, "a_b]"));
+    assert!(stderr.contains(&want), "{stderr} should contain {want}");
+    assert!(stderr.contains("`aB` and `a_b`"), "{stderr}");
+    assert!(out.stdout.is_empty());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Force elements whose ends cannot move relative to each other (they did
+/// nothing and reported energy), point forces on the ground, and numbers,
+/// drives and names echoed in messages: located, short.
+#[test]
+fn degenerate_forces_overflows_and_long_strings_are_located_and_short() {
+    let force = |f: &str| format!("{BASE}\n[[forces]]\n{f}\n");
+    let long = "x".repeat(20_000);
+    let long_marker = edit("at = \"rod@x=0.5\"", &format!("at = \"{long}@x=0.5\""));
+    let long_output = format!("{BASE}\n[[outputs]]\nname = \"{long}\"\nkind = \"energy\"\n\n[[outputs]]\nname = \"{long}\" # again\nkind = \"energy\"\n");
+    let again = format!("\"{long}\" # again");
+    let long_kind = edit("kind = \"point\"", &format!("kind = \"{long}\""));
+    let cases: Vec<(String, &str, Vec<&str>)> = vec![
+        // A spring from a marker to itself.
+        (
+            force("kind = \"spring-damper\"\na = \"rod@x=0.5\"\nb = \"rod@x=0.5\"\nstiffness = 10.0\nrest_length = 0.0"),
+            "\"rod@x=0.5\"\nstiffness",
+            vec!["`spring-damper` force's ends `a` = `rod@x=0.5` and `b` = `rod@x=0.5` are the same point of body `rod`", "does nothing"],
+        ),
+        // Two points fixed in one rigid body's frame.
+        (
+            force("kind = \"spring-damper\"\na = \"block\"\nb = \"block@[0.1, 0.0]\"\nstiffness = 10.0\nrest_length = 0.0\ndamping = 1.0"),
+            "\"block@[0.1, 0.0]\"",
+            vec!["are both fixed in the frame of body `block`"],
+        ),
+        (
+            force("kind = \"rotational-spring-damper\"\na = \"ground@[0.0, 1.0]\"\nb = \"ground@[0.0, 0.0]\"\nstiffness = 10.0"),
+            "\"ground@[0.0, 0.0]\"\nstiff",
+            vec!["are both fixed to the ground"],
+        ),
+        (
+            force("kind = \"torque\"\na = \"block\"\nb = \"block\"\ntorque = 1.0"),
+            "\"block\"\ntorque",
+            vec!["`torque` force's ends", "are both fixed in the frame of body `block`"],
+        ),
+        (
+            force("kind = \"point\"\nat = \"ground@[0.0, 1.0]\"\nforce = [1.0, 0.0]"),
+            "\"ground@[0.0, 1.0]\"",
+            vec!["a `point` force at the ground", "does nothing"],
+        ),
+        // Numbers in short form, every refusal located.
+        (
+            edit("dt = 1e-3\n", "dt = 1e-3\nintegrator = { kind = \"generalized-alpha\", rtol = 1e300 }\n"),
+            "1e300",
+            vec!["`rtol` (the relative Newton tolerance) must be in (0, 1), found 1e300"],
+        ),
+        (
+            edit("dt = 1e-3\n", "dt = 1e-3\nintegrator = { kind = \"generalized-alpha\", rho_inf = -1e300 }\n"),
+            "-1e300",
+            vec!["`rho_inf` must be in [0, 1], found -1e300"],
+        ),
+        (
+            force("kind = \"spring-damper\"\na = \"ground@[1.0, 0.0]\"\nb = \"rod@x=1.0\"\nstiffness = -1e300\nrest_length = 0.0"),
+            "-1e300",
+            vec!["`stiffness` must be ≥ 0, found -1e300"],
+        ),
+        // A drive that overflows names its joint.
+        (
+            edit("b = \"rod\"\n", "b = \"rod\"\ndrive = { angle = \"harmonic\", amplitude = 1e290, frequency = 1e10 }\n"),
+            "{ angle = \"harmonic\"",
+            vec!["the drive of joint 1 (`revolute`, a = `ground@[0.0, 0.0]`, b = `rod`)", "acceleration (amplitude (2π frequency)²) reaches inf", "beyond the range of f64"],
+        ),
+        (
+            edit(
+                "kind = \"revolute\"\na = \"rod@x=1.0\"\nb = \"block\"\n",
+                "kind = \"revolute\"\na = \"rod@x=1.0\"\nb = \"block\"\nmotor = { kp = 1.0, target = { angle = \"spin-up\", omega = 1e300, ramp = 1e-10 } }\n",
+            ),
+            "{ angle = \"spin-up\"",
+            vec!["the motor target of joint 2 (`revolute`, a = `rod@x=1.0`, b = `block`)", "acceleration (2 omega/ramp) reaches inf"],
+        ),
+        // Long user strings are shortened.
+        (long_marker, "\"xxxx", vec!["no body named `xxxxxxxx", "…`"]),
+        (long_output, &again, vec!["is named twice", "…`"]),
+        (long_kind, "\"xxxx", vec!["unknown force kind `xxxx", "…`"]),
+        // An overflow in a modal body's eigenproblem is not blamed on a
+        // coordinate without mass.
+        (
+            edit(
+                "elements = 2\nparams = { length = 1.0, rho = 2700.0, area = 1e-4, iz = 8.3e-10, e = 7.0e10 }",
+                "elements = 2\nmodes = 2\nparams = { length = 1.0, rho = 1e300, area = 1e-4, iz = 8.3e-10, e = 1e-300 }",
+            ),
+            "2\nparams",
+            vec!["body `rod`", "beyond the range of f64"],
+        ),
+    ];
+    check_cases(&cases);
+    for (text, _, _) in &cases {
+        assert!(!error(text).contains("carries no mass"));
     }
 }
 

@@ -685,6 +685,7 @@ pub fn emit_scene_file(
     use crate::limits::check_literals;
     let text = crate::scene::read(path)?;
     let raw = crate::scene::parse(&text, origin)?;
+    crate::scene::check(&raw, &text, origin)?;
     let models = crate::scene::flex_models(&raw, &text, origin)?;
     let root = runtime_path.strip_suffix("::runtime").ok_or_else(|| {
         crate::error::Error::Body(format!(
@@ -725,15 +726,7 @@ pub fn emit_scene_file(
         };
         let set = generate_kernels(&model)?;
         check_literals(&set)?;
-        let body_type: String = crate::builder::snake_case(&m.name)
-            .split('_')
-            .map(|p| {
-                let mut c = p.chars();
-                c.next()
-                    .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
-                    .unwrap_or_default()
-            })
-            .collect();
+        let body_type = crate::scene::body_type_name(&m.name);
         let kt = format!("{type_name}{body_type}Kernels");
         writeln!(
             header,

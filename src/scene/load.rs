@@ -3,6 +3,7 @@
 //! joint to the ground and an angle drive determine completely gets its frame
 //! coordinates prescribed, so it runs its elastic equations only).
 
+use crate::codegen::scene::quoted as q;
 use crate::codegen::scene::{
     flex_models, FlexBodyModel, RawBody, RawForce, RawIntegrator, RawMotor, RawOutput, RawProfile,
     RawScene, RawTarget,
@@ -238,7 +239,7 @@ fn pos_f64(c: &Ctx, v: &Spanned<f64>, what: &str) -> Result<f64, SceneError> {
     } else {
         Err(c.err(
             v.span(),
-            format!("`{what}` must be a finite number > 0, found {x}"),
+            format!("`{what}` must be a finite number > 0, found {x:?}"),
         ))
     }
 }
@@ -250,7 +251,7 @@ fn fin_f64(c: &Ctx, v: &Spanned<f64>, what: &str) -> Result<f64, SceneError> {
     } else {
         Err(c.err(
             v.span(),
-            format!("`{what}` must be a finite number, found {x}"),
+            format!("`{what}` must be a finite number, found {x:?}"),
         ))
     }
 }
@@ -267,7 +268,7 @@ fn vec_n(c: &Ctx, v: &Spanned<Vec<f64>>, n: usize, what: &str) -> Result<Vector3
         ));
     }
     if let Some(bad) = x.iter().find(|y| !y.is_finite()) {
-        return Err(c.err(v.span(), format!("`{what}` must be finite, found {bad}")));
+        return Err(c.err(v.span(), format!("`{what}` must be finite, found {bad:?}")));
     }
     let mut out = Vector3::zeros();
     out.as_mut_slice()[..n].copy_from_slice(x);
@@ -304,6 +305,7 @@ pub fn from_str(
         base: 0,
     };
     let raw: RawScene = crate::codegen::scene::parse(text, file).map_err(scene_error)?;
+    crate::codegen::scene::check(&raw, text, file).map_err(scene_error)?;
     build(&c, raw, base, provider)
 }
 
@@ -329,7 +331,7 @@ fn parse_params(
                 k.span(),
                 format!(
                     "unknown parameter `{}`: expected one of {PARAMS}",
-                    k.get_ref()
+                    q(k.get_ref())
                 ),
             ));
         };
@@ -393,7 +395,8 @@ impl Builder<'_> {
                     format!(
                         "`{text}`: the ground needs a point, `ground@[x, y{}]`; {}",
                         if self.dim == 3 { ", z" } else { "" },
-                        allowed()
+                        allowed(),
+                        text = q(text)
                     ),
                 )
             })?;
@@ -402,7 +405,12 @@ impl Builder<'_> {
         let Some(i) = self.names.iter().position(|n| n == name) else {
             return Err(self.c.err(
                 s.span(),
-                format!("`{text}`: no body named `{name}`; {}", allowed()),
+                format!(
+                    "`{text}`: no body named `{name}`; {}",
+                    allowed(),
+                    text = q(text),
+                    name = q(name)
+                ),
             ));
         };
         let b = BodyId(i);
@@ -417,20 +425,26 @@ impl Builder<'_> {
                     .ok_or_else(|| {
                         self.c.err(
                             s.span(),
-                            format!("`{text}`: `x=` needs a number; {}", allowed()),
+                            format!(
+                                "`{text}`: `x=` needs a number; {}",
+                                allowed(),
+                                text = q(text)
+                            ),
                         )
                     })?;
                 if self.rigid[i] {
                     return Err(self.c.err(
                         s.span(),
-                        format!("`{text}`: `{name}` is rigid and has no axis; give a body-frame point `{name}@[x, y{}]`", if self.dim == 3 { ", z" } else { "" }),
+                        format!("`{text}`: `{name}` is rigid and has no axis; give a body-frame point `{name}@[x, y{}]`", if self.dim == 3 { ", z" } else { "" }, text = q(text)),
                     ));
                 }
                 Ok(MarkerRef::Axis(b, x))
             }
             Some(r) => point(r).map(|p| MarkerRef::Point(b, p)).ok_or_else(|| {
-                self.c
-                    .err(s.span(), format!("`{text}`: not a marker; {}", allowed()))
+                self.c.err(
+                    s.span(),
+                    format!("`{text}`: not a marker; {}", allowed(), text = q(text)),
+                )
             }),
         }
     }
@@ -446,13 +460,19 @@ impl Builder<'_> {
             MarkerRef::Point(b, p) => Marker::at(b, p),
             MarkerRef::Axis(b, x) => sys
                 .point(b, x)
-                .map_err(|e| self.c.err(s.span(), format!("`{}`: {e}", s.get_ref())))?,
+                .map_err(|e| self.c.err(s.span(), format!("`{}`: {e}", q(s.get_ref()))))?,
         })
     }
 }
 
-fn profile(c: &Ctx, p: &Spanned<RawProfile>, key: &str) -> Result<Driver, SceneError> {
-    profile_at(c, p.span(), p.get_ref(), key)
+fn profile(
+    c: &Ctx,
+    p: &Spanned<RawProfile>,
+    key: &str,
+    t_end: f64,
+    who: &str,
+) -> Result<Driver, SceneError> {
+    profile_at(c, p.span(), p.get_ref(), key, t_end, who)
 }
 
 /// A profile whose table is at `span`.
@@ -461,7 +481,22 @@ fn profile_at(
     span: std::ops::Range<usize>,
     r: &RawProfile,
     key: &str,
+    t_end: f64,
+    who: &str,
 ) -> Result<Driver, SceneError> {
+    // Bounds of |f|, |ḟ|, |f̈| on [0, t_end]: each must be finite, or the
+    // prescribed motion overflows during the run.
+    let bounded = |bounds: &[(&str, f64)]| -> Result<(), SceneError> {
+        match bounds.iter().find(|(_, b)| !b.is_finite()) {
+            None => Ok(()),
+            Some((what, b)) => Err(c.err(
+                span.clone(),
+                format!(
+                    "{who}: the profile's {what} reaches {b:?} before t_end = {t_end:?}: beyond the range of f64"
+                ),
+            )),
+        }
+    };
     let name = match key {
         "angle" => r.angle.as_ref(),
         _ => r.slide.as_ref(),
@@ -472,7 +507,7 @@ fn profile_at(
             .ok_or_else(|| {
                 c.err(
                     name.span(),
-                    format!("profile `{}` needs `{what}`", name.get_ref()),
+                    format!("profile `{}` needs `{what}`", q(name.get_ref())),
                 )
             })
             .and_then(|x| fin_f64(c, x, what))
@@ -489,6 +524,14 @@ fn profile_at(
                 .ok_or_else(|| c.err(name.span(), "profile `spin-up` needs `ramp` (s)"))
                 .and_then(|x| pos_f64(c, x, "ramp"))?;
             let start = opt(&r.start, "start", 0.0)?;
+            bounded(&[
+                (
+                    "value (start + omega (t_end + ramp))",
+                    start.abs() + omega.abs() * (t_end + ramp),
+                ),
+                ("rate (2 omega)", 2.0 * omega.abs()),
+                ("acceleration (2 omega/ramp)", 2.0 * omega.abs() / ramp),
+            ])?;
             Ok(Driver::spin_up(omega, ramp).map(move |[f, fd, fdd]| [start + f, fd, fdd]))
         }
         "constant-rate" => {
@@ -503,19 +546,36 @@ fn profile_at(
                     )
                 })
                 .and_then(|x| fin_f64(c, x, "omega"))?;
-            Ok(Driver::linear(opt(&r.start, "start", 0.0)?, w))
+            let start = opt(&r.start, "start", 0.0)?;
+            bounded(&[
+                ("value (start + omega t_end)", start.abs() + w.abs() * t_end),
+                ("rate (omega)", w.abs()),
+            ])?;
+            Ok(Driver::linear(start, w))
         }
         "constant" => Ok(Driver::constant(need(&r.value, "value")?)),
-        "harmonic" => Ok(Driver::harmonic(
-            opt(&r.start, "start", 0.0)?,
-            need(&r.amplitude, "amplitude")?,
-            need(&r.frequency, "frequency")?,
-            opt(&r.phase, "phase", 0.0)?,
-        )),
+        "harmonic" => {
+            let start = opt(&r.start, "start", 0.0)?;
+            let a = need(&r.amplitude, "amplitude")?;
+            let nu = need(&r.frequency, "frequency")?;
+            let phase = opt(&r.phase, "phase", 0.0)?;
+            let w = 2.0 * std::f64::consts::PI * nu.abs();
+            bounded(&[
+                ("value (start + amplitude)", start.abs() + a.abs()),
+                ("rate (amplitude 2π frequency)", a.abs() * w),
+                ("acceleration (amplitude (2π frequency)²)", a.abs() * w * w),
+                (
+                    "phase (2π frequency t_end + phase)",
+                    w * t_end + phase.abs(),
+                ),
+            ])?;
+            Ok(Driver::harmonic(start, a, nu, phase))
+        }
         other => Err(c.err(
             name.span(),
             format!(
-                "unknown profile `{other}`: expected spin-up, constant-rate, constant or harmonic"
+                "unknown profile `{other}`: expected spin-up, constant-rate, constant or harmonic",
+                other = q(other)
             ),
         )),
     }
@@ -534,12 +594,21 @@ fn integrator(c: &Ctx, r: &Option<Spanned<RawIntegrator>>) -> Result<Integrator,
                 if !(0.0..=1.0).contains(&g.rho_inf) {
                     return Err(c.err(
                         x.span(),
-                        format!("`rho_inf` must be in [0, 1], found {}", g.rho_inf),
+                        format!("`rho_inf` must be in [0, 1], found {:?}", g.rho_inf),
                     ));
                 }
             }
             if let Some(x) = &i.rtol {
                 g.rtol = pos_f64(c, x, "rtol")?;
+                if g.rtol >= 1.0 {
+                    return Err(c.err(
+                        x.span(),
+                        format!(
+                            "`rtol` (the relative Newton tolerance) must be in (0, 1), found {:?}",
+                            g.rtol
+                        ),
+                    ));
+                }
             }
             Ok(Integrator::GeneralizedAlpha(g))
         }
@@ -555,7 +624,10 @@ fn integrator(c: &Ctx, r: &Option<Spanned<RawIntegrator>>) -> Result<Integrator,
         }
         other => Err(c.err(
             i.kind.span(),
-            format!("unknown integrator `{other}`: expected generalized-alpha or rk4"),
+            format!(
+                "unknown integrator `{other}`: expected generalized-alpha or rk4",
+                other = q(other)
+            ),
         )),
     }
 }
@@ -573,7 +645,7 @@ fn build(
     if dt > t_end {
         return Err(c.err(
             raw.dt.span(),
-            format!("`dt` = {dt} is longer than `t_end` = {t_end}"),
+            format!("`dt` = {dt:?} is longer than `t_end` = {t_end:?}"),
         ));
     }
     if t_end / dt > 1e9 {
@@ -586,27 +658,12 @@ fn build(
         ));
     }
     let integrator = integrator(c, &raw.integrator)?;
-    let names: Vec<String> = raw.bodies.keys().cloned().collect();
+    let names: Vec<String> = raw.bodies.keys().map(|k| k.get_ref().clone()).collect();
     if names.is_empty() {
         return Err(c.err(
             raw.dimension.span(),
             "a scene needs at least one body under [bodies.NAME]",
         ));
-    }
-    for (n, body) in &raw.bodies {
-        if n == "ground"
-            || n.is_empty()
-            || n.contains('@')
-            || n.chars().any(|ch| ch.is_whitespace() || ch.is_control())
-        {
-            return Err(c.err(
-                body.span().unwrap_or(0..0),
-                format!(
-                    "`{}` cannot name a body: `ground` is reserved, names have no spaces or `@`",
-                    n.escape_debug()
-                ),
-            ));
-        }
     }
     let rigid: Vec<bool> = raw.bodies.values().map(|b| b.mass.is_some()).collect();
     let b = Builder {
@@ -624,7 +681,7 @@ fn build(
     let mut flex = Vec::new();
     let mut ids = Vec::new();
     for ((name, body), fold) in raw.bodies.iter().zip(&folded) {
-        let (name_s, rb) = (name, body);
+        let (name_s, rb) = (name.get_ref(), body);
         let span = body.span().unwrap_or(0..0);
         let pose = pose(c, rb, dim, span.clone())?;
         let boxed: Box<dyn Body> = if let Some(m) = &rb.mass {
@@ -678,17 +735,27 @@ fn build(
                 ));
             }
             let reference = match &rb.reference {
-                Some(r) => r
-                    .get_ref()
-                    .parse::<Reference>()
-                    .map_err(|e| c.err(r.span(), e))?,
+                Some(r) => r.get_ref().parse::<Reference>().map_err(|_| {
+                    c.err(
+                        r.span(),
+                        format!(
+                            "unknown reference condition `{}`: expected clamped, pinned or free",
+                            q(r.get_ref())
+                        ),
+                    )
+                })?,
                 None => Reference::Clamped,
             };
             let formalism = match &rb.formalism {
-                Some(f) => f
-                    .get_ref()
-                    .parse::<Formalism>()
-                    .map_err(|e| c.err(f.span(), e))?,
+                Some(f) => f.get_ref().parse::<Formalism>().map_err(|_| {
+                    c.err(
+                        f.span(),
+                        format!(
+                            "unknown formalism `{}`: expected consistent or lumped",
+                            q(f.get_ref())
+                        ),
+                    )
+                })?,
                 None => Formalism::Consistent,
             };
             let model = models
@@ -726,7 +793,7 @@ fn build(
                 .map_err(|e| c.err(shape.span(), format!("body `{name_s}`: {e}")))?;
             let dimension = kernels.info().dim;
             if dimension > dim {
-                return Err(c.err(shape.span(), format!("body `{name_s}`: shape `{shape_s}` is spatial; a planar scene needs a planar shape")));
+                return Err(c.err(shape.span(), format!("body `{name_s}`: shape `{shape_s}` is spatial; a planar scene needs a planar shape", shape_s = q(shape_s))));
             }
             // A parameter the body uses must be given (a missing one would
             // be reported as zero).
@@ -742,8 +809,7 @@ fn build(
                     format!(
                         "body `{name_s}`: `params` needs `{}`: shape `{shape_s}` in this scene uses {}",
                         missing.1.field(),
-                        names.join(", ")
-                    ),
+                        names.join(", "), shape_s = q(shape_s)),
                 ));
             }
             let kb = KernelBody::new(kernels, params, n as usize, reference)
@@ -853,7 +919,7 @@ fn build(
                             k.span(),
                             format!(
                                 "body `{name_s}` has no elastic coordinate `{}`; its coordinates are {}",
-                                k.get_ref().escape_debug(),
+                                q(k.get_ref()),
                                 labels.join(", ")
                             ),
                         ));
@@ -915,7 +981,13 @@ fn build(
             // Revolute to the ground at the body's frame origin, angle drive:
             // prescribe the frame (origin fixed, angle driven).
             let bid = BodyId(bi);
-            let drive = profile(c, jr.drive.as_ref().expect("checked"), "angle")?;
+            let drive = profile(
+                c,
+                jr.drive.as_ref().expect("checked"),
+                "angle",
+                t_end,
+                &format!("the drive of {}", joint_name(ji, jr)),
+            )?;
             let entry = sys.body_entry(bid);
             let (o, d) = (entry.offset, entry.d);
             let (q0, _) = sys.initial_coords();
@@ -945,18 +1017,18 @@ fn build(
             "spherical" => sys.spherical(am.clone(), bm.clone()),
             "prismatic" => sys.prismatic(am.clone(), bm.clone()),
             other => {
-                return Err(c.err(jr.kind.span(), format!("unknown joint kind `{other}`: expected ground, fixed, revolute, spherical or prismatic")));
+                return Err(c.err(jr.kind.span(), format!("unknown joint kind `{other}`: expected ground, fixed, revolute, spherical or prismatic", other = q(other))));
             }
         };
         res.map_err(|e| c.err(jr.kind.span(), e.to_string()))?;
         if let Some(d) = &jr.drive {
             match kind {
                 "revolute" => {
-                    let f = profile(c, d, "angle")?;
+                    let f = profile(c, d, "angle", t_end, &format!("the drive of {}", joint_name(ji, jr)))?;
                     sys.prescribe_rotation(am.clone(), bm.clone(), f)
                 }
                 "prismatic" => {
-                    let f = profile(c, d, "slide")?;
+                    let f = profile(c, d, "slide", t_end, &format!("the drive of {}", joint_name(ji, jr)))?;
                     sys.prescribe_slide(am.clone(), bm.clone(), f)
                 }
                 _ => return Err(c.err(d.span(), format!("a `{kind}` joint has no drive: drives are for revolute (angle) and prismatic (slide) joints"))),
@@ -970,7 +1042,7 @@ fn build(
                     "motors act in revolute joints (a torque about the joint axis)",
                 ));
             }
-            let law = motor(c, m)?;
+            let law = motor(c, m, t_end, &joint_name(ji, jr))?;
             sys.add_torque(am, bm, law)
                 .map_err(|e| c.err(m.span(), e.to_string()))?;
         }
@@ -991,7 +1063,7 @@ fn build(
                 o.name.span(),
                 format!(
                     "output `{}` is named twice (or `t`, the time column)",
-                    out.name
+                    q(&out.name)
                 ),
             ));
         }
@@ -1108,7 +1180,20 @@ fn pose(c: &Ctx, rb: &RawBody, dim: usize, span: Range<usize>) -> Result<Pose, S
     }
 }
 
-fn motor(c: &Ctx, m: &Spanned<RawMotor>) -> Result<TorqueLaw, SceneError> {
+/// How messages name joint `i` (0-based): `joint 2 (revolute, a =
+/// `hub`, b = `arm`)`.
+fn joint_name(i: usize, j: &crate::codegen::scene::RawJoint) -> String {
+    format!(
+        "joint {} (`{}`{}, b = `{}`)",
+        i + 1,
+        q(j.kind.get_ref()),
+        j.a.as_ref()
+            .map_or(String::new(), |a| format!(", a = `{}`", q(a.get_ref()))),
+        q(j.b.get_ref())
+    )
+}
+
+fn motor(c: &Ctx, m: &Spanned<RawMotor>, t_end: f64, joint: &str) -> Result<TorqueLaw, SceneError> {
     let r = m.get_ref();
     match (&r.torque, &r.target) {
         (Some(t), None) => {
@@ -1127,16 +1212,31 @@ fn motor(c: &Ctx, m: &Spanned<RawMotor>) -> Result<TorqueLaw, SceneError> {
                 RawTarget::Angle(x) => {
                     return Err(c.err(
                         target.span(),
-                        format!("motor `target` must be a finite angle, found {x}"),
+                        format!("motor `target` must be a finite angle, found {x:?}"),
                     ))
                 }
-                RawTarget::Profile(p) => profile_at(c, target.span(), p, "angle")?,
+                RawTarget::Profile(p) => profile_at(
+                    c,
+                    target.span(),
+                    p,
+                    "angle",
+                    t_end,
+                    &format!("the motor target of {joint}"),
+                )?,
             };
             let kp =
                 r.kp.as_ref()
                     .ok_or_else(|| c.err(m.span(), "a PD motor needs `kp` (N m/rad)"))
                     .and_then(|x| fin_f64(c, x, "kp"))?;
             let kd = r.kd.as_ref().map_or(Ok(0.0), |x| fin_f64(c, x, "kd"))?;
+            for (what, v, x) in [("kp", &r.kp, kp), ("kd", &r.kd, kd)] {
+                if let (Some(v), true) = (v, x < 0.0) {
+                    return Err(c.err(
+                        v.span(),
+                        format!("`{what}` (a PD gain) must be ≥ 0, found {x:?}"),
+                    ));
+                }
+            }
             Ok(TorqueLaw::Pd {
                 target: drv,
                 kp,
@@ -1180,25 +1280,97 @@ fn force(
             })
             .and_then(|x| fin_f64(c, x, what))
     };
+    // The two ends of a spring, damper or torque element: they must be able
+    // to move relative to each other, or the element does nothing (its
+    // energy would be reported all the same).
+    let ends = |c: &Ctx| -> Result<(), SceneError> {
+        let (Some(sa), Some(sb)) = (&r.a, &r.b) else {
+            return Ok(());
+        };
+        let (ma, mb) = (b.marker_ref(sa)?, b.marker_ref(sb)?);
+        let kind = q(r.kind.get_ref());
+        let same = |why: String| {
+            Err(c.err(
+                sb.span(),
+                format!(
+                    "the `{kind}` force's ends `a` = `{}` and `b` = `{}` {why}: such a force does nothing (it would still report energy); give two ends that move relative to each other",
+                    q(sa.get_ref()),
+                    q(sb.get_ref())
+                ),
+            ))
+        };
+        let rigid_ends = |x: &MarkerRef| match x {
+            MarkerRef::Origin(i) | MarkerRef::Point(i, _) => Some(*i),
+            _ => None,
+        };
+        match (&ma, &mb) {
+            (MarkerRef::Ground(_), MarkerRef::Ground(_)) => {
+                same("are both fixed to the ground".into())
+            }
+            (MarkerRef::Axis(i, x), MarkerRef::Axis(j, y)) if i == j && x == y => {
+                same(format!("are the same point of body `{}`", b.names[i.0]))
+            }
+            _ => match (rigid_ends(&ma), rigid_ends(&mb)) {
+                (Some(i), Some(j)) if i == j => same(format!(
+                    "are both fixed in the frame of body `{}`",
+                    b.names[i.0]
+                )),
+                _ => Ok(()),
+            },
+        }
+    };
+    // Non-negative coefficients, checked here so that the message is located.
+    let nonneg = |v: &Option<Spanned<f64>>, what: &str| -> Result<(), SceneError> {
+        match v {
+            Some(x) if *x.get_ref() < 0.0 => Err(c.err(
+                x.span(),
+                format!("`{what}` must be ≥ 0, found {:?}", x.get_ref()),
+            )),
+            _ => Ok(()),
+        }
+    };
+    match r.kind.get_ref().as_str() {
+        "spring-damper" => {
+            nonneg(&r.stiffness, "stiffness")?;
+            nonneg(&r.damping, "damping")?;
+            nonneg(&r.rest_length, "rest_length")?;
+        }
+        "rotational-spring-damper" => {
+            nonneg(&r.stiffness, "stiffness")?;
+            nonneg(&r.damping, "damping")?;
+        }
+        _ => {}
+    }
     match r.kind.get_ref().as_str() {
         "point" => {
             let at = need(c, f, &r.at, "at")?;
+            if let MarkerRef::Ground(_) = b.marker_ref(at)? {
+                return Err(c.err(
+                    at.span(),
+                    format!(
+                        "a `point` force at the ground (`{}`) does nothing: put it on a body",
+                        q(at.get_ref())
+                    ),
+                ));
+            }
             let m = b.marker(sys, at)?;
             let fv = r.force.as_ref().ok_or_else(|| c.err(f.span(), "a `point` force needs `force = [Fx, Fy(, Fz)]` (N)"))?;
             let fv = vec_n(c, fv, b.dim, "force")?;
             let res = match r.axes.as_ref().map(|a| a.get_ref().as_str()) {
                 None | Some("global") => sys.add_point_force(m, move |_| fv),
                 Some("body") => sys.add_follower_force(m, move |_| fv),
-                Some(other) => return Err(c.err(r.axes.as_ref().expect("some").span(), format!("`axes` is \"global\" or \"body\", found `{other}`"))),
+                Some(other) => return Err(c.err(r.axes.as_ref().expect("some").span(), format!("`axes` is \"global\" or \"body\", found `{other}`", other = q(other)))),
             };
             res.map_err(|e| c.err(f.span(), e.to_string()))
         }
         "spring-damper" => {
+            ends(c)?;
             let (a, bb) = (b.marker(sys, need(c, f, &r.a, "a")?)?, b.marker(sys, need(c, f, &r.b, "b")?)?);
             sys.add_spring_damper(a, bb, numr(&r.stiffness, "stiffness")?, r.damping.as_ref().map_or(Ok(0.0), |x| fin_f64(c, x, "damping"))?, numr(&r.rest_length, "rest_length")?)
                 .map_err(|e| c.err(f.span(), e.to_string()))
         }
         "rotational-spring-damper" => {
+            ends(c)?;
             let (a, bb) = (b.marker(sys, need(c, f, &r.a, "a")?)?, b.marker(sys, need(c, f, &r.b, "b")?)?);
             let law = TorqueLaw::SpringDamper {
                 stiffness: numr(&r.stiffness, "stiffness")?,
@@ -1208,11 +1380,12 @@ fn force(
             sys.add_torque(a, bb, law).map_err(|e| c.err(f.span(), e.to_string()))
         }
         "torque" => {
+            ends(c)?;
             let (a, bb) = (b.marker(sys, need(c, f, &r.a, "a")?)?, b.marker(sys, need(c, f, &r.b, "b")?)?);
             let tau = numr(&r.torque, "torque")?;
             sys.add_torque(a, bb, TorqueLaw::Torque(Arc::new(move |_| tau))).map_err(|e| c.err(f.span(), e.to_string()))
         }
-        other => Err(c.err(r.kind.span(), format!("unknown force kind `{other}`: expected point, spring-damper, rotational-spring-damper or torque"))),
+        other => Err(c.err(r.kind.span(), format!("unknown force kind `{other}`: expected point, spring-damper, rotational-spring-damper or torque", other = q(other)))),
     }
 }
 
@@ -1237,7 +1410,8 @@ fn output(
                 c.err(
                     o.span(),
                     format!(
-                        "output `{name}` needs `component = \"x\"`, `\"y\"`{}",
+                        "output `{}` needs `component = \"x\"`, `\"y\"`{}",
+                        q(&name),
                         if b.dim == 3 { " or `\"z\"`" } else { "" }
                     ),
                 )
@@ -1250,15 +1424,20 @@ fn output(
                     s.span(),
                     format!(
                         "`component` is x, y{} — found `{other}`",
-                        if b.dim == 3 { " or z" } else { "" }
+                        if b.dim == 3 { " or z" } else { "" },
+                        other = q(other)
                     ),
                 )),
             },
         }
     };
     let at = || {
-        r.at.as_ref()
-            .ok_or_else(|| c.err(o.span(), format!("output `{name}` needs `at = \"MARKER\"`")))
+        r.at.as_ref().ok_or_else(|| {
+            c.err(
+                o.span(),
+                format!("output `{}` needs `at = \"MARKER\"`", q(&name)),
+            )
+        })
     };
     let kind = match r.kind.get_ref().as_str() {
         "position" => OutputKind::Position(comp(None)?),
@@ -1274,11 +1453,11 @@ fn output(
                 Some("springs") => EnergyPart::Springs,
                 Some("work") => EnergyPart::Work,
                 Some("dissipated") => EnergyPart::Dissipated,
-                Some(other) => return Err(c.err(r.component.as_ref().expect("some").span(), format!("energy `component` is total, kinetic, elastic, gravity, springs, work or dissipated — found `{other}`"))),
+                Some(other) => return Err(c.err(r.component.as_ref().expect("some").span(), format!("energy `component` is total, kinetic, elastic, gravity, springs, work or dissipated — found `{other}`", other = q(other)))),
             };
             return Ok(Output { name, kind: OutputKind::Energy(part), marker: Marker::ground(Vector3::zeros()), relative_to: None });
         }
-        other => return Err(c.err(r.kind.span(), format!("unknown output kind `{other}`: expected position, deflection, angle, velocity or energy"))),
+        other => return Err(c.err(r.kind.span(), format!("unknown output kind `{other}`: expected position, deflection, angle, velocity or energy", other = q(other)))),
     };
     let marker = b.marker(sys, at()?)?;
     if matches!(kind, OutputKind::Deflection(_)) && marker.body.is_none() {
@@ -1357,7 +1536,8 @@ fn modal_settings(
             return Err(c.err(
                 span,
                 format!(
-                    "body `{name}`: `reduction` is \"modal\" or \"craig-bampton\", found `{other}`"
+                    "body `{name}`: `reduction` is \"modal\" or \"craig-bampton\", found `{other}`",
+                    other = q(other)
                 ),
             ))
         }

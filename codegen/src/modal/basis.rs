@@ -390,6 +390,13 @@ fn eigenpairs(
     if n == 0 {
         return Ok((Vec::new(), DMatrix::zeros(0, 0)));
     }
+    for (name, a) in [("stiffness", k), ("mass", m)] {
+        if let Some(v) = a.iter().find(|v| !v.is_finite()) {
+            return Err(ModalError::NotDefinite(format!(
+                "the {name} matrix of the eigenproblem with stiffness {what} has the entry {v:?}: the parameters are beyond the range of f64"
+            )));
+        }
+    }
     let chol = Cholesky::new(k.clone()).ok_or_else(|| {
         ModalError::NotDefinite(format!(
             "the stiffness {what} is not positive definite: the body has a mechanism or a rigid-body motion its reference condition does not remove"
@@ -403,6 +410,13 @@ fn eigenpairs(
     let b = l
         .solve_lower_triangular(&x.transpose())
         .expect("a Cholesky factor has a non-zero diagonal");
+    if let Some(v) = b.iter().find(|v| !v.is_finite()) {
+        return Err(ModalError::NotDefinite(format!(
+            "the eigenproblem with stiffness {what} overflows: L⁻¹ M L⁻ᵀ has the entry {v:?}, as the mass and stiffness matrices are too far apart in scale for f64 (largest mass {:.3e}, largest stiffness {:.3e}): the parameters are beyond the range of f64",
+            m.amax(),
+            k.amax()
+        )));
+    }
     let eig = SymmetricEigen::new(sym(b));
     let mut order: Vec<usize> = (0..n).collect();
     // Largest μ first (= smallest λ); ties by index.
@@ -416,7 +430,12 @@ fn eigenpairs(
     let mut phi = DMatrix::zeros(n, n);
     for (col, &i) in order.iter().enumerate() {
         let mu = eig.eigenvalues[i];
-        if mu.is_nan() || mu <= 0.0 {
+        if !mu.is_finite() {
+            return Err(ModalError::NotDefinite(format!(
+                "the eigenproblem with stiffness {what} gives the eigenvalue {mu:?} of L⁻¹ M L⁻ᵀ, not a finite number: the parameters are beyond the range of f64"
+            )));
+        }
+        if mu <= 0.0 {
             return Err(ModalError::NotDefinite(format!(
                 "the mass matrix of the eigenproblem with stiffness {what} is not positive definite (eigenvalue {mu:e} of L⁻¹ M L⁻ᵀ): a coordinate carries no mass (e.g. the nodal rotations of the lumped formalism), so some frequencies are infinite; reduce the consistent-formalism body"
             )));
