@@ -213,7 +213,11 @@ pub fn check_output(path: &Path, flag: &str) -> Result<PathBuf, OutputError> {
     };
     let target = match std::fs::symlink_metadata(path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => path.to_path_buf(),
-        Err(e) => return Err(error(path, format!("cannot be examined: {e}"))),
+        Err(e) => {
+            // e.g. a file where a directory of the path should be
+            check_dir(path, path)?;
+            return Err(error(path, format!("cannot be examined: {e}")));
+        }
         Ok(m) if m.file_type().is_file() => path.to_path_buf(),
         Ok(m) if m.file_type().is_symlink() => match std::fs::metadata(path) {
             Ok(t) if t.is_file() => std::fs::canonicalize(path)
@@ -415,5 +419,154 @@ mod tests {
         assert!(check_distinct(&[("--csv", a), ("--svg", Path::new("out/./x.svg"))]).is_err());
         assert!(check_distinct(&[("--csv", a), ("--svg", Path::new("out/y/../x.svg"))]).is_err());
         assert!(check_distinct(&[("--csv", Path::new("x.csv")), ("--svg", a)]).is_ok());
+    }
+
+    /// A FIFO at `path` (unix).
+    #[cfg(unix)]
+    fn mkfifo(path: &Path) {
+        use std::os::unix::ffi::OsStrExt;
+        let c = std::ffi::CString::new(path.as_os_str().as_bytes()).unwrap();
+        // SAFETY: a valid NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn special_files_are_refused_before_anything_is_written() {
+        use std::os::unix::fs::FileTypeExt;
+        // Was: the temporary file was renamed over /dev/null (as root).
+        let null = Path::new("/dev/null");
+        if std::fs::metadata(null).is_ok_and(|m| m.file_type().is_char_device()) {
+            let e = check_output(null, "--csv").unwrap_err().to_string();
+            assert_eq!(
+                e,
+                "/dev/null: is a character device, not a regular file: --csv is written only to a new path or over a regular file"
+            );
+            // write_atomic checks the same before it creates its temporary
+            // (which would be in /dev) or renames anything.
+            assert!(write_atomic(null, b"x").is_err());
+            assert!(std::fs::metadata(null)
+                .unwrap()
+                .file_type()
+                .is_char_device());
+        }
+        let d = temp_dir("special");
+        let fifo = d.join("fifo");
+        mkfifo(&fifo);
+        let e = write_atomic(&fifo, b"x").unwrap_err().to_string();
+        assert!(
+            e.contains("fifo: is a FIFO (named pipe), not a regular file"),
+            "{e}"
+        );
+        // A link to a FIFO is refused as well.
+        std::os::unix::fs::symlink(&fifo, d.join("to-fifo")).unwrap();
+        let e = check_output(&d.join("to-fifo"), "--svg")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("is a symbolic link to a FIFO"), "{e}");
+        assert!(std::fs::symlink_metadata(&fifo)
+            .unwrap()
+            .file_type()
+            .is_fifo());
+        let mut left: Vec<_> = std::fs::read_dir(&d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        left.sort();
+        assert_eq!(left, ["fifo", "to-fifo"]);
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_symbolic_link_is_followed_and_kept() {
+        let d = temp_dir("symlink");
+        std::fs::write(d.join("real.csv"), "old\n").unwrap();
+        std::os::unix::fs::symlink("real.csv", d.join("link.csv")).unwrap();
+        write_atomic(&d.join("link.csv"), b"new\n").unwrap();
+        assert!(std::fs::symlink_metadata(d.join("link.csv"))
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(std::fs::read(d.join("real.csv")).unwrap(), b"new\n");
+        // A link to nothing is not followed.
+        std::os::unix::fs::symlink("absent.csv", d.join("dangling.csv")).unwrap();
+        let e = write_atomic(&d.join("dangling.csv"), b"x")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("dangling.csv: is a symbolic link to a file that does not exist"),
+            "{e}"
+        );
+        assert!(!d.join("absent.csv").exists());
+        assert_eq!(
+            std::fs::read_dir(&d).unwrap().count(),
+            3,
+            "no temporary left"
+        );
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn several_files_are_written_all_or_none() {
+        let d = temp_dir("all-or-none");
+        std::fs::write(d.join("a.csv"), "old a\n").unwrap();
+        mkfifo(&d.join("c.md"));
+        let (a, b, c) = (d.join("a.csv"), d.join("b.svg"), d.join("c.md"));
+        // The last path is unusable: nothing is replaced or created.
+        let e = write_all_atomic(&[(&a, b"new a"), (&b, b"new b"), (&c, b"new c")])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("c.md: is a FIFO"), "{e}");
+        assert_eq!(std::fs::read(&a).unwrap(), b"old a\n");
+        assert!(!b.exists());
+        assert_eq!(
+            std::fs::read_dir(&d).unwrap().count(),
+            2,
+            "no temporary left"
+        );
+        // And checked before a run, with the flag named.
+        let e = check_outputs(&[("--csv", &a), ("--svg", &c)])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--svg is written only to a new path"), "{e}");
+        std::fs::remove_file(&c).unwrap();
+        write_all_atomic(&[(&a, b"new a"), (&b, b"new b"), (&c, b"new c")]).unwrap();
+        assert_eq!(std::fs::read(&c).unwrap(), b"new c");
+        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 3);
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_replaced_file_keeps_its_permissions() {
+        use std::os::unix::fs::PermissionsExt;
+        let d = temp_dir("mode");
+        let f = d.join("run.csv");
+        std::fs::write(&f, "x").unwrap();
+        std::fs::set_permissions(&f, std::fs::Permissions::from_mode(0o640)).unwrap();
+        write_atomic(&f, b"y").unwrap();
+        let mode = std::fs::metadata(&f).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o640);
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn a_file_in_place_of_the_directory_is_found_before_a_run() {
+        let d = temp_dir("parent");
+        std::fs::write(d.join("file"), "x").unwrap();
+        let e = check_output(&d.join("file/sub/run.csv"), "--csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("file/sub/run.csv: cannot create the directory"),
+            "{e}"
+        );
+        assert!(e.ends_with("file is not a directory"), "{e}");
+        assert!(check_output(&d.join("new/sub/run.csv"), "--csv").is_ok());
+        assert!(!d.join("new").exists(), "the check creates nothing");
+        assert!(check_output(Path::new("run.csv"), "--csv").is_ok());
+        std::fs::remove_dir_all(&d).unwrap();
     }
 }
