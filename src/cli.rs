@@ -415,7 +415,8 @@ impl SpinUpArgs {
 }
 
 /// The default output paths `results/<tag>.csv` and `.svg`, checked before
-/// a run (not a directory, not the same file twice).
+/// a run ([`output::check_outputs`]: regular files or new paths in a usable
+/// directory, not the same file twice).
 fn outputs(
     csv: &Option<PathBuf>,
     svg: &Option<PathBuf>,
@@ -426,14 +427,12 @@ fn outputs(
         .unwrap_or_else(|| PathBuf::from("results").join(format!("{tag}.csv")));
     let svg_given = svg.is_some();
     let svg = svg.clone().unwrap_or_else(|| csv.with_extension("svg"));
-    output::check_file_path(&csv, "--csv")?;
-    output::check_file_path(&svg, "--svg")?;
     let svg_flag = if svg_given {
         "--svg"
     } else {
         "the plot (by default the CSV path with extension .svg)"
     };
-    output::check_distinct(&[("--csv", &csv), (svg_flag, &svg)])?;
+    output::check_outputs(&[("--csv", &csv), (svg_flag, &svg)])?;
     Ok((csv, svg))
 }
 
@@ -452,9 +451,8 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
     }
     let names: Vec<&str> = cols.iter().map(|c| c.0).collect();
     let values: Vec<&[f64]> = cols.iter().map(|c| c.1).collect();
-    output::write_atomic(&csv, crate::plot::csv(&r.t, &names, &values).as_bytes())?;
-    crate::plot::time_plot(
-        &svg,
+    check_finite_columns(&r.t, &names, &values)?;
+    let plot = crate::plot::time_svg(
         &format!(
             "KRB spin-up, ω_s = {} rad/s, {} {} elements, stiffening {}",
             args.omega,
@@ -466,7 +464,11 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
         &r.t,
         &cols,
     )?;
-    println!(
+    output::write_all_atomic(&[
+        (&csv, crate::plot::csv(&r.t, &names, &values).as_bytes()),
+        (&svg, plot.as_bytes()),
+    ])?;
+    crate::outln!(
         "spin-up beam (Kane, Ryan & Banerjee 1987): L = 8 m, ω_s = {} rad/s, T = 15 s, {} {} elements (kernels: {}), {} formalism, stiffening {}{}",
         args.omega,
         args.elements,
@@ -475,12 +477,12 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
         cfg.formalism,
         cfg.stiffening,
         if args.e_scale != 1.0 { format!(", E × {}", args.e_scale) } else { String::new() }
-    );
+    )?;
     if cfg.modal.is_some() {
-        println!("modal body: {}", r.body);
+        crate::outln!("modal body: {}", r.body)?;
     }
     if let Some((t, y)) = r.min_transverse() {
-        println!("peak tip deflection (hub frame): {y:.5} m at t = {t:.2} s");
+        crate::outln!("peak tip deflection (hub frame): {y:.5} m at t = {t:.2} s")?;
     }
     if let Some(reference) = crate::reference::spin_up(args.omega).filter(|_| r.diverged.is_none())
     {
@@ -491,13 +493,13 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
             args.t_end.min(30.0),
         ) {
             let (_, yr) = reference.min("tip_transverse").unwrap_or((0.0, f64::NAN));
-            println!(
+            crate::outln!(
                 "against the geometrically exact reference (peak {yr:.5} m; {}): history error {rel:.2e} relative, {abs:.2e} m",
                 reference.source
-            );
+            )?;
         }
     }
-    println!(
+    crate::outln!(
         "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices{}, wall time {:.3} s",
         r.steps,
         args.dt,
@@ -505,8 +507,8 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
         r.jacobians,
         retries(r.restarts, r.splits),
         r.wall
-    );
-    println!("wrote {} and {}", csv.display(), svg.display());
+    )?;
+    crate::outln!("wrote {} and {}", csv.display(), svg.display())?;
     if let Some(d) = &r.diverged {
         let hint = if cfg.stiffening == Stiffening::Off {
             " (the linear FFR model softens above its first bending frequency; try --stiffening on)"
@@ -539,28 +541,36 @@ pub fn run_scene(
     let r = crate::scene::run(&scene)?;
     let names: Vec<&str> = r.names.iter().map(String::as_str).collect();
     let cols: Vec<&[f64]> = r.columns.iter().map(Vec::as_slice).collect();
-    output::write_atomic(&csv, crate::plot::csv(&r.t, &names, &cols).as_bytes())?;
+    if r.failed.is_none() {
+        check_finite_columns(&r.t, &names, &cols)?;
+    }
     let series: Vec<(&str, &[f64])> = names.iter().copied().zip(cols.iter().copied()).collect();
-    crate::plot::time_plot(
-        &svg,
+    let plot = crate::plot::time_svg(
         scene.description.as_deref().unwrap_or(&scene.origin),
         "outputs",
         &r.t,
         &series,
     )?;
-    println!(
+    output::write_all_atomic(&[
+        (&csv, crate::plot::csv(&r.t, &names, &cols).as_bytes()),
+        (&svg, plot.as_bytes()),
+    ])?;
+    // User text (the file's path, its description, output names) is shown
+    // escaped and shortened: it cannot move the cursor or change colours.
+    let text = crate::codegen::sanitize::snippet;
+    crate::outln!(
         "scene {}{}",
-        scene.origin,
+        text(&scene.origin, MAX_ECHO_CHARS),
         scene
             .description
             .as_ref()
-            .map_or(String::new(), |d| format!(": {d}"))
-    );
+            .map_or(String::new(), |d| format!(": {}", text(d, MAX_ECHO_CHARS)))
+    )?;
     for (b, k) in &scene.kernels {
-        println!("  body `{b}`: {k}");
+        crate::outln!("  body `{}`: {k}", text(b, MAX_ECHO_CHARS))?;
     }
     for n in &scene.notes {
-        println!("  {n}");
+        crate::outln!("  {}", text(n, usize::MAX))?;
     }
     for (name, col) in names.iter().zip(&cols) {
         if let (Some(first), Some(last)) = (col.first(), col.last()) {
@@ -569,10 +579,13 @@ pub fn run_scene(
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
                     (a.min(v), b.max(v))
                 });
-            println!("  {name}: {first:.6e} → {last:.6e} (min {lo:.6e}, max {hi:.6e})");
+            crate::outln!(
+                "  {}: {first:.6e} → {last:.6e} (min {lo:.6e}, max {hi:.6e})",
+                text(name, crate::plot::MAX_LABEL_CHARS)
+            )?;
         }
     }
-    println!(
+    crate::outln!(
         "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices{}, wall time {:.3} s",
         r.steps,
         scene.dt,
@@ -580,8 +593,8 @@ pub fn run_scene(
         r.jacobians,
         retries(r.restarts, r.splits),
         r.wall
-    );
-    println!("wrote {} and {}", csv.display(), svg.display());
+    )?;
+    crate::outln!("wrote {} and {}", csv.display(), svg.display())?;
     if let Some(f) = &r.failed {
         return Err(format!(
             "the run stopped at t = {:.6} s: {f}",
@@ -589,15 +602,31 @@ pub fn run_scene(
         )
         .into());
     }
-    let bad = r
-        .columns
-        .iter()
-        .zip(&names)
-        .find(|(c, _)| c.iter().any(|v| !v.is_finite()));
-    if let Some((_, n)) = bad {
-        return Err(format!("output `{n}` is not finite: the run is not valid").into());
-    }
     Ok(r)
+}
+
+/// Longest user text (a scene's description or path, a body name) echoed on
+/// the terminal, in characters; longer text is cut with `…`.
+pub const MAX_ECHO_CHARS: usize = 200;
+
+/// Every time and output value finite, checked before anything is written
+/// or printed; the error names the output and the time.
+fn check_finite_columns(t: &[f64], names: &[&str], cols: &[&[f64]]) -> Result<(), String> {
+    if let Some((i, v)) = t.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(format!(
+            "the time of sample {i} is {v}, not a finite number: the run is not valid (nothing written)"
+        ));
+    }
+    for (n, c) in names.iter().zip(cols) {
+        if let Some((i, v)) = c.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            let at = t.get(i).map_or(String::new(), |t| format!(" at t = {t} s"));
+            return Err(format!(
+                "output `{}` is {v}{at}, not a finite number: the run is not valid (nothing written)",
+                crate::codegen::sanitize::snippet(n, crate::plot::MAX_LABEL_CHARS)
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// `, N steps restarted from rest, M halved` when there were any.
@@ -625,12 +654,12 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             let inv = b.invariants();
             check_invariants(&inv, &b.layout().labels, beam.formalism)?;
             if json {
-                println!(
+                crate::outln!(
                     "{}",
                     serde_json::to_string(&invariants_json(&inv, &b.layout().labels))?
-                );
+                )?;
             } else {
-                print_summary(&b.layout().description, &inv, &b.layout().labels);
+                print_summary(&b.layout().description, &inv, &b.layout().labels)?;
             }
             Ok(())
         }
@@ -672,7 +701,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                     crate::codegen::emit_kernels_file(&set, &type_name, "::ffr::runtime")
                 }
             };
-            print!("{text}");
+            output::print(&text)?;
             Ok(())
         }
         Some(Command::Modes {
@@ -804,24 +833,28 @@ pub fn invariants_json(inv: &Invariants, dofs: &[String]) -> Value {
     })
 }
 
-fn print_summary(description: &str, inv: &Invariants, dofs: &[String]) {
-    println!("{description}");
-    println!("elastic coordinates ({}): {}", dofs.len(), dofs.join(" "));
-    println!("mass m = {:e}", inv.mass);
+fn print_summary(
+    description: &str,
+    inv: &Invariants,
+    dofs: &[String],
+) -> Result<(), output::OutputError> {
+    crate::outln!("{description}")?;
+    crate::outln!("elastic coordinates ({}): {}", dofs.len(), dofs.join(" "))?;
+    crate::outln!("mass m = {:e}", inv.mass)?;
     let d = inv.dim;
-    println!("S_t0 = {:?}", &inv.s_t0.as_slice()[..d]);
+    crate::outln!("S_t0 = {:?}", &inv.s_t0.as_slice()[..d])?;
     for k in 0..d {
-        println!(
+        crate::outln!(
             "Θ_{}· = {:?}",
             AXES[k],
             (0..d).map(|l| inv.theta[(k, l)]).collect::<Vec<_>>()
-        );
+        )?;
     }
     let diag = |m: &crate::runtime::nalgebra::DMatrix<f64>| {
         (0..m.nrows()).map(|i| m[(i, i)]).collect::<Vec<_>>()
     };
-    println!("diag m_ff = {:?}", diag(&inv.m_ff));
-    println!("diag K_ff = {:?}", diag(&inv.k_ff));
+    crate::outln!("diag m_ff = {:?}", diag(&inv.m_ff))?;
+    crate::outln!("diag K_ff = {:?}", diag(&inv.k_ff))
 }
 
 /// Whether `s` names a built-in shape.

@@ -146,6 +146,59 @@ impl ReducibleBody {
         boundary: &[usize],
         flag: &str,
     ) -> Result<ModalBasis, Box<dyn Error>> {
+        let basis = self.reduce_unchecked(count, boundary, flag)?;
+        self.check_basis(&basis)?;
+        Ok(basis)
+    }
+
+    /// Every number of `basis` and of the invariants projected onto it
+    /// finite, named as `ffr modes --json` keys it: at extreme parameters
+    /// (`--rho 1e-300`) the eigenproblem overflows, and `inf`, `NaN` or JSON
+    /// `null` must not be printed or written.
+    fn check_basis(&self, basis: &ModalBasis) -> Result<(), String> {
+        let label = |j: usize| {
+            basis
+                .labels
+                .get(j)
+                .map_or(String::new(), |l| format!(" ({l})"))
+        };
+        let dof = |i: usize| {
+            self.dofs
+                .get(i)
+                .map_or(String::new(), |l| format!(" ({l})"))
+        };
+        for (j, w) in basis.frequencies.iter().enumerate() {
+            finite(|| format!("omega[{j}]{}", label(j)), *w)?;
+        }
+        for i in 0..basis.phi.nrows() {
+            for j in 0..basis.phi.ncols() {
+                finite(
+                    || format!("phi[{i}][{j}]{}{}", dof(i), label(j)),
+                    basis.phi[(i, j)],
+                )?;
+            }
+        }
+        for (name, m) in [
+            ("modal_mass", &basis.modal_mass),
+            ("modal_stiffness", &basis.modal_stiffness),
+        ] {
+            for i in 0..m.nrows() {
+                for j in 0..m.ncols() {
+                    finite(|| format!("{name}[{i}][{j}]{}", label(i)), m[(i, j)])?;
+                }
+            }
+        }
+        let projected = self.invariants.project(&basis.phi);
+        check_invariants(&to_runtime(&projected), &basis.labels, Formalism::Lumped)
+            .map_err(|e| format!("invariants.{e}"))
+    }
+
+    fn reduce_unchecked(
+        &self,
+        count: Option<usize>,
+        boundary: &[usize],
+        flag: &str,
+    ) -> Result<ModalBasis, Box<dyn Error>> {
         if !boundary.is_empty() {
             return self.craig_bampton(count, boundary, flag);
         }
@@ -412,12 +465,12 @@ pub fn modes(
     let b = ReducibleBody::new(body, params)?;
     let basis = b.reduce(count, boundary, "--count")?;
     if json {
-        println!("{}", serde_json::to_string(&modes_json(&b, &basis))?);
+        crate::outln!("{}", serde_json::to_string(&modes_json(&b, &basis))?)?;
         return Ok(());
     }
-    println!("{}", b.description());
+    crate::outln!("{}", b.description())?;
     if boundary.is_empty() {
-        println!(
+        crate::outln!(
             "modal truncation: the {} lowest modes of K_ff φ = ω² m_ff φ, mass-normalized{}",
             basis.len(),
             if b.spec.reference == Reference::Free {
@@ -425,30 +478,73 @@ pub fn modes(
             } else {
                 ""
             }
-        );
+        )?;
     } else {
-        println!(
+        crate::outln!(
             "Craig-Bampton: {} fixed-interface normal modes (boundary nodes fixed), mass-normalized, and {} static constraint modes",
             basis.frequencies.len(),
             basis.len() - basis.frequencies.len()
-        );
+        )?;
     }
     if !basis.frequencies.is_empty() {
-        println!("{:>5} {:>24} {:>24}", "mode", "omega (rad/s)", "f (Hz)");
+        crate::outln!("{:>5} {:>24} {:>24}", "mode", "omega (rad/s)", "f (Hz)")?;
     }
     for (j, w) in basis.frequencies.iter().enumerate() {
-        println!(
+        crate::outln!(
             "{:>5} {:>24} {:>24}",
             j + 1,
             output::number(*w),
             output::number(w / std::f64::consts::TAU)
-        );
+        )?;
     }
     let constraint = &basis.labels[basis.frequencies.len()..];
     if !constraint.is_empty() {
-        println!("constraint modes: {}", constraint.join(" "));
+        crate::outln!("constraint modes: {}", constraint.join(" "))?;
     }
     Ok(())
+}
+
+/// `quantity` is `v`: an error unless `v` is finite.
+fn finite(quantity: impl Fn() -> String, v: f64) -> Result<(), String> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} is {v} at these parameters, not a finite number: the parameters are too large or too small for f64 (nothing written)",
+            quantity()
+        ))
+    }
+}
+
+/// Every number an export writes finite (the basis and the projected
+/// invariants are checked by [`ReducibleBody::reduce`]): the nodes'
+/// positions, mode shapes, lumped masses and inertias.
+fn check_export(e: &ExportBody) -> Result<(), String> {
+    for n in &e.nodes {
+        let node = n.node;
+        for (c, v) in n.position.iter().enumerate() {
+            finite(|| format!("node {node} position[{c}]"), *v)?;
+        }
+        for (what, m) in [("translation", &n.translation), ("rotation", &n.rotation)] {
+            for (i, v) in m.iter().enumerate() {
+                finite(
+                    || format!("node {node} {what}[{}] of mode {}", i % 3, i / 3 + 1),
+                    *v,
+                )?;
+            }
+        }
+        finite(|| format!("node {node} mass"), n.mass)?;
+        for (c, v) in n.inertia.iter().enumerate() {
+            finite(|| format!("node {node} inertia[{c}]"), *v)?;
+        }
+    }
+    for (j, k) in e.kinds.iter().enumerate() {
+        if let ModeKind::Normal { omega } = k {
+            finite(|| format!("omega of mode {}", j + 1), *omega)?;
+        }
+    }
+    check_invariants(&to_runtime(&e.invariants), &e.labels, Formalism::Lumped)
+        .map_err(|m| format!("invariants.{m}"))
 }
 
 /// `ffr export`: write the body reduced as [`ReducibleBody::reduce`] says in
@@ -461,22 +557,23 @@ pub fn export(
     boundary: &[usize],
     out: &Path,
 ) -> Result<(), Box<dyn Error>> {
-    output::check_file_path(out, "--out")?;
+    output::check_outputs(&[("--out", out)])?;
     let b = ReducibleBody::new(body, params)?;
     let basis = b.reduce(count, boundary, "--modes")?;
     let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
+    check_export(&e)?;
     let text = match format {
         "mbdyn-fem" => mbdyn_fem(&e),
         "sid" => sid(&e),
         other => return Err(format!("unknown --format `{other}` (mbdyn-fem, sid)").into()),
     };
     output::write_atomic(out, text.as_bytes())?;
-    println!("{}", b.description());
-    println!(
+    crate::outln!("{}", b.description())?;
+    crate::outln!(
         "wrote {} ({format}, {} modes, {})",
         out.display(),
         basis.len(),
         reduction_name(&basis)
-    );
+    )?;
     Ok(())
 }

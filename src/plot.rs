@@ -5,13 +5,28 @@ use std::path::Path;
 
 const COLORS: [RGBColor; 6] = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK];
 
-/// Lines `series` (name, values) against `t`, as an SVG document.
+/// Longest title of a plot, in characters (longer ones are cut with `…`).
+pub const MAX_TITLE_CHARS: usize = 120;
+
+/// Longest series name or axis label of a plot, in characters.
+pub const MAX_LABEL_CHARS: usize = 48;
+
+/// User text for a plot: non-printing characters escaped, shortened
+/// (`ffr_codegen::sanitize::snippet`); plotters escapes `<`, `&` and quotes.
+pub fn plot_text(s: &str, max_chars: usize) -> String {
+    ffr_codegen::sanitize::snippet(s, max_chars)
+}
+
+/// Lines `series` (name, values) against `t`, as an SVG document. The title,
+/// label and names are shown through [`plot_text`].
 pub fn time_svg(
     title: &str,
     y_label: &str,
     t: &[f64],
     series: &[(&str, &[f64])],
 ) -> Result<String, Box<dyn std::error::Error>> {
+    let title = plot_text(title, MAX_TITLE_CHARS);
+    let y_label = plot_text(y_label, MAX_LABEL_CHARS);
     let mut svg = String::new();
     {
         let t_max = t.last().copied().unwrap_or(1.0).max(1e-9);
@@ -28,7 +43,7 @@ pub fn time_svg(
         let root = SVGBackend::with_string(&mut svg, (900, 500)).into_drawing_area();
         root.fill(&WHITE)?;
         let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 20))
+            .caption(&title, ("sans-serif", 20))
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
@@ -36,7 +51,7 @@ pub fn time_svg(
         chart
             .configure_mesh()
             .x_desc("t (s)")
-            .y_desc(y_label)
+            .y_desc(&y_label)
             .draw()?;
         for (i, (name, v)) in series.iter().enumerate() {
             let color = COLORS[i % COLORS.len()];
@@ -48,7 +63,7 @@ pub fn time_svg(
                 .collect();
             chart
                 .draw_series(LineSeries::new(pts, color))?
-                .label(*name)
+                .label(plot_text(name, MAX_LABEL_CHARS))
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
         }
         chart

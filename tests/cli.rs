@@ -386,7 +386,7 @@ fn dev_zero_is_refused_at_once() {
     assert!(!ok);
     assert!(t.elapsed().as_secs_f64() < 5.0);
     assert!(
-        err.contains("/dev/zero: larger than 1048576 bytes"),
+        err.contains("error: /dev/zero: is a character device, not a regular file: a shape file must be a regular file (not read)"),
         "{err}"
     );
 }
@@ -506,5 +506,337 @@ fn spin_up_csv_numbers_are_short_and_exact() {
     assert!(dir.join("run.svg").exists());
     let left = std::fs::read_dir(&dir).unwrap().count();
     assert_eq!(left, 2, "no temporary files left");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Run `ffr args…` with standard output `stdout` (or a pipe), killed and
+/// failed after `secs` seconds: (exit code, stdout, stderr).
+fn ffr_within(
+    args: &[&str],
+    secs: f64,
+    stdout: Option<std::fs::File>,
+) -> (Option<i32>, String, String) {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_ffr"));
+    cmd.args(args)
+        .stdin(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped());
+    match stdout {
+        Some(f) => cmd.stdout(f),
+        None => cmd.stdout(std::process::Stdio::piped()),
+    };
+    let mut child = cmd.spawn().expect("run ffr");
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed().as_secs_f64() > secs {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{args:?} still running after {secs} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!err.contains("panicked"), "{args:?}: {err}");
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        err,
+    )
+}
+
+#[cfg(unix)]
+fn mkfifo(path: &std::path::Path) {
+    let ok = Command::new("mkfifo").arg(path).status().unwrap();
+    assert!(ok.success(), "mkfifo {}", path.display());
+}
+
+/// The names in `dir`, sorted.
+fn names_in(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[cfg(unix)]
+#[test]
+fn dev_null_as_an_output_is_refused_and_stays_a_device() {
+    // Was: as root, `--csv /dev/null` renamed a regular file over /dev/null.
+    use std::os::unix::fs::FileTypeExt;
+    let is_char = || std::fs::metadata("/dev/null").is_ok_and(|m| m.file_type().is_char_device());
+    if !is_char() {
+        return;
+    }
+    let dir = temp_dir("devnull");
+    let csv = dir.join("run.csv");
+    for args in [
+        vec!["spin-up", "--csv", "/dev/null"],
+        vec![
+            "spin-up",
+            "--csv",
+            csv.to_str().unwrap(),
+            "--svg",
+            "/dev/null",
+        ],
+        vec!["export", "--format", "sid", "--out", "/dev/null"],
+    ] {
+        let t = std::time::Instant::now();
+        let (code, _, err) = ffr_within(&args, 20.0, None);
+        assert_eq!(code, Some(1), "{args:?}");
+        assert!(t.elapsed().as_secs_f64() < 5.0, "refused before the run");
+        assert!(
+            err.contains("error: /dev/null: is a character device, not a regular file"),
+            "{err}"
+        );
+        assert!(is_char());
+    }
+    assert!(names_in(&dir).is_empty(), "{:?}", names_in(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_as_an_output_is_refused() {
+    let dir = temp_dir("fifo-out");
+    let fifo = dir.join("out.csv");
+    mkfifo(&fifo);
+    let (code, _, err) = ffr_within(&["spin-up", "--csv", fifo.to_str().unwrap()], 20.0, None);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("out.csv: is a FIFO (named pipe), not a regular file: --csv is written only to a new path or over a regular file"),
+        "{err}"
+    );
+    assert_eq!(names_in(&dir), ["out.csv"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[cfg(unix)]
+#[test]
+fn dev_full_as_output_or_standard_output_is_an_error() {
+    if !std::path::Path::new("/dev/full").exists() {
+        return;
+    }
+    let (code, _, err) = ffr_within(
+        &["export", "--format", "sid", "--out", "/dev/full"],
+        20.0,
+        None,
+    );
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("error: /dev/full: is a character device"),
+        "{err}"
+    );
+    // Was: a panic (exit 101) in `print!`.
+    for args in [
+        vec!["emit"],
+        vec!["invariants", "--json"],
+        vec!["invariants"],
+        vec!["modes"],
+    ] {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let (code, _, err) = ffr_within(&args, 60.0, Some(full));
+        assert_eq!(code, Some(1), "{args:?}: {err}");
+        assert!(
+            err.starts_with("error: standard output: cannot write: "),
+            "{args:?}: {err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_or_a_device_as_scene_or_shape_file_is_refused_at_once() {
+    // Was: `ffr run FIFO` blocked forever, `ffr run /dev/zero` read without bound.
+    let dir = temp_dir("fifo-in");
+    let fifo = dir.join("scene.toml");
+    mkfifo(&fifo);
+    let f = fifo.to_str().unwrap();
+    let csv = dir.join("x.csv");
+    let mut cases = vec![
+        (
+            vec!["run", f, "--csv", csv.to_str().unwrap()],
+            "a scene file",
+        ),
+        (vec!["emit", "--scene", f], "a scene file"),
+        (vec!["invariants", "--shape", f], "a shape file"),
+    ];
+    if std::path::Path::new("/dev/zero").exists() {
+        cases.push((vec!["run", "/dev/zero"], "a scene file"));
+    }
+    for (args, what) in cases {
+        let (code, _, err) = ffr_within(&args, 10.0, None);
+        assert_eq!(code, Some(1), "{args:?}");
+        assert!(
+            err.contains(&format!(
+                "not a regular file: {what} must be a regular file (not read)"
+            )),
+            "{err}"
+        );
+        assert!(
+            err.contains("is a FIFO") || err.contains("/dev/zero: is a character device"),
+            "{err}"
+        );
+    }
+    assert_eq!(names_in(&dir), ["scene.toml"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[cfg(unix)]
+#[test]
+fn report_and_stability_check_every_file_before_running() {
+    // Was: the paths were checked only when the files were written, after
+    // every run, and the files before the unusable one were left behind.
+    let dir = temp_dir("report-out");
+    let out = dir.join("rep");
+    std::fs::create_dir_all(&out).unwrap();
+    mkfifo(&out.join("report.md"));
+    let o = out.to_str().unwrap();
+    let (code, _, err) = ffr_within(
+        &["report", "--quick", "--scenes", "pendulum", "--out", o],
+        10.0,
+        None,
+    );
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("rep/report.md: is a FIFO (named pipe), not a regular file: a file of --out"),
+        "{err}"
+    );
+    assert_eq!(names_in(&out), ["report.md"]);
+    // A directory in place of one of the diagrams.
+    std::fs::remove_file(out.join("report.md")).unwrap();
+    std::fs::create_dir_all(out.join("pendulum.svg")).unwrap();
+    let (code, _, err) = ffr_within(
+        &["report", "--quick", "--scenes", "pendulum", "--out", o],
+        10.0,
+        None,
+    );
+    assert_eq!(code, Some(1));
+    assert!(err.contains("pendulum.svg: is a directory"), "{err}");
+    assert_eq!(names_in(&out), ["pendulum.svg"]);
+    let st = dir.join("st");
+    std::fs::create_dir_all(&st).unwrap();
+    mkfifo(&st.join("stability.md"));
+    let (code, _, err) = ffr_within(
+        &["stability", "--quick", "--out", st.to_str().unwrap()],
+        10.0,
+        None,
+    );
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains(
+            "st/stability.md: is a FIFO (named pipe), not a regular file: the file of --out"
+        ),
+        "{err}"
+    );
+    assert_eq!(names_in(&st), ["stability.md"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn non_finite_modes_are_an_error_not_inf_or_null() {
+    // Was: `inf`, `NaN`, JSON `null` and `.fem` rows of `inf NaN`, exit 0.
+    for json in [false, true] {
+        let mut args = vec!["modes", "--rho", "1e-300"];
+        if json {
+            args.push("--json");
+        }
+        let (ok, out, err) = ffr(&args);
+        assert!(!ok, "{out}");
+        assert!(
+            !out.contains("inf") && !out.contains("NaN") && !out.contains("null"),
+            "{out}"
+        );
+        assert!(
+            err.starts_with("error: omega[")
+                && err.contains("is inf at these parameters, not a finite number"),
+            "{err}"
+        );
+    }
+    let dir = temp_dir("export-inf");
+    for format in ["mbdyn-fem", "sid"] {
+        let out = dir.join(format!("body.{format}"));
+        let (ok, _, err) = ffr(&[
+            "export",
+            "--format",
+            format,
+            "--rho",
+            "1e-300",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(!ok);
+        assert!(err.contains("not a finite number"), "{err}");
+    }
+    assert!(names_in(&dir).is_empty(), "{:?}", names_in(&dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_hostile_description_is_escaped_on_the_terminal_and_in_the_svg() {
+    // Was: the escape sequence reached the terminal and the SVG held a raw
+    // control character (not XML).
+    let dir = temp_dir("description");
+    let scene = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/spin_up.toml"
+    ))
+    .unwrap()
+    .replace(
+        "description = \"KRB spin-up beam, 4 rad/s, 8 beam2 elements, fourth-order stiffening\"",
+        &format!(
+            "description = \"red \\u001b[31m <b> & \\\"q\\\" \\u0007 {}\"",
+            "long ".repeat(100)
+        ),
+    )
+    .replace("t_end = 20.0", "t_end = 0.05")
+    .replace("name = \"tip_axial\"", "name = \"<tip> & axial\"");
+    assert!(scene.contains("\\u001b[31m"), "{scene}");
+    let path = dir.join("evil.toml");
+    std::fs::write(&path, scene).unwrap();
+    let csv = dir.join("evil.csv");
+    let (ok, out, err) = ffr(&[
+        "run",
+        path.to_str().unwrap(),
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(!out.contains('\u{1b}') && !out.contains('\u{7}'), "{out:?}");
+    assert!(
+        out.contains("red \\u{1b}[31m <b> & \"q\" \\u{7} long"),
+        "{out}"
+    );
+    let first = out.lines().next().unwrap();
+    assert!(
+        // At most 200 characters of the description (500 of `long `).
+        first.ends_with('…') && first.matches("long").count() < 40,
+        "{first}"
+    );
+    let svg = std::fs::read_to_string(dir.join("evil.svg")).unwrap();
+    assert!(!svg
+        .chars()
+        .any(|c| c.is_control() && !matches!(c, '\n' | '\r' | '\t')));
+    let doc = roxmltree::Document::parse(&svg).expect("the SVG is well-formed XML");
+    let texts: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text())
+        .collect();
+    assert!(
+        texts
+            .iter()
+            .any(|t| t.contains("red \\u{1b}[31m <b> & \"q\"")),
+        "{texts:?}"
+    );
+    assert!(
+        texts.iter().any(|t| t.contains("<tip> & axial")),
+        "{texts:?}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -192,3 +192,66 @@ fn non_finite_literal(e: &Expr) -> Option<f64> {
     }
     None
 }
+
+/// Read an input file (shape, scene, data) through a bound of `max_bytes`.
+/// Only a regular file (or a symbolic link to one) is read: a directory, a
+/// FIFO, a device or a socket is refused from its metadata, before it is
+/// opened (so a FIFO cannot block the reader and `/dev/zero` cannot fill
+/// memory), and the file is read with `take(max_bytes + 1)`, so a file that
+/// grows while it is read is refused too. `what` names the kind of file
+/// (`"shape file"`) and `limit` the bound (`"MAX_SOURCE_BYTES"`) in messages;
+/// the error is the message only (the caller adds the path).
+pub fn read_input(
+    path: &std::path::Path,
+    max_bytes: u64,
+    what: &str,
+    limit: &str,
+) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    if meta.is_dir() {
+        return Err(format!("is a directory, not a {what}"));
+    }
+    if !meta.is_file() {
+        return Err(format!(
+            "is {}, not a regular file: a {what} must be a regular file (not read)",
+            special_kind(&meta.file_type())
+        ));
+    }
+    let too_large =
+        || format!("larger than {max_bytes} bytes, the limit for {what}s ({limit}): not read");
+    if meta.len() > max_bytes {
+        return Err(too_large());
+    }
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let mut bytes = Vec::new();
+    file.take(max_bytes + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(too_large());
+    }
+    Ok(bytes)
+}
+
+/// What a file that is neither a regular file nor a directory is.
+pub fn special_kind(t: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_char_device() {
+            return "a character device";
+        }
+        if t.is_block_device() {
+            return "a block device";
+        }
+        if t.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    let _ = t;
+    "a special file"
+}

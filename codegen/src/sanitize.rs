@@ -101,10 +101,13 @@ pub fn comment_text(s: &str) -> String {
     out
 }
 
-/// User text quoted in an error message: control, format and other
-/// non-printing characters escaped as in [`comment_text`] (so a message
-/// cannot move the cursor, change colours or reorder text on a terminal), and
-/// cut to at most `max_chars` characters with `…`.
+/// User text quoted in an error message or shown on a terminal or in a
+/// plot: control, format and other non-printing characters (and the
+/// non-characters U+FFFE, U+FFFF, which XML does not allow) escaped as in
+/// [`comment_text`] (so a message cannot move the cursor, change colours or
+/// reorder text on a terminal, and an SVG stays well-formed XML once its
+/// writer has escaped `<`, `&` and quotes), and cut to at most `max_chars`
+/// characters with `…`.
 pub fn snippet(s: &str, max_chars: usize) -> String {
     let mut out = String::new();
     for (n, c) in s.chars().enumerate() {
@@ -112,7 +115,7 @@ pub fn snippet(s: &str, max_chars: usize) -> String {
             out.push('…');
             break;
         }
-        if c.is_control() || is_invisible(c) {
+        if c.is_control() || is_invisible(c) || matches!(c, '\u{fffe}' | '\u{ffff}') {
             escape_char(c, &mut out);
         } else {
             out.push(c);
@@ -253,5 +256,6 @@ mod tests {
         assert_eq!(snippet("ab\u{1b}[31mc", 100), "ab\\u{1b}[31mc");
         assert_eq!(snippet("abcdef", 3), "abc…");
         assert_eq!(snippet("jürgen", 10), "jürgen");
+        assert_eq!(snippet("a\u{ffff}\u{85}b", 10), "a\\u{ffff}\\u{85}b");
     }
 }

@@ -321,24 +321,23 @@ pub fn body_type_name(name: &str) -> String {
         .collect()
 }
 
-/// Read a scene file with a size limit.
+/// Read a scene file through a bound of [`MAX_SCENE_BYTES`] (only a regular
+/// file: [`crate::limits::read_input`]), as UTF-8.
 pub fn read(path: &Path) -> Result<String, Error> {
-    let file = path.display().to_string();
+    let file = crate::sanitize::snippet(&path.display().to_string(), usize::MAX);
     let io = |m: String| Error::Io {
         path: file.clone(),
         message: m,
     };
-    let meta = std::fs::metadata(path).map_err(|e| io(e.to_string()))?;
-    if meta.is_dir() {
-        return Err(io("is a directory, not a scene file".into()));
-    }
-    if meta.len() > MAX_SCENE_BYTES {
-        return Err(io(format!(
-            "{} bytes; a scene file may have at most {MAX_SCENE_BYTES}",
-            meta.len()
-        )));
-    }
-    std::fs::read_to_string(path).map_err(|e| io(e.to_string()))
+    let bytes = crate::limits::read_input(path, MAX_SCENE_BYTES, "scene file", "MAX_SCENE_BYTES")
+        .map_err(io)?;
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        io(format!(
+            "is not UTF-8 text (byte 0x{:02x} at byte offset {at})",
+            e.as_bytes()[at]
+        ))
+    })
 }
 
 impl RawJoint {

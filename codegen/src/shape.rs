@@ -406,25 +406,13 @@ impl Shape {
 /// Read a shape file through a bound of [`MAX_SOURCE_BYTES`] (so that a
 /// device or a huge file fails at once), as UTF-8.
 fn read_source(path: &Path) -> Result<String, Error> {
-    use std::io::Read;
     let shown = snippet(&path.display().to_string(), usize::MAX);
     let io = |message: String| Error::Io {
         path: shown.clone(),
         message,
     };
-    if path.is_dir() {
-        return Err(io("is a directory, not a shape file".into()));
-    }
-    let file = std::fs::File::open(path).map_err(|e| io(e.to_string()))?;
-    let mut bytes = Vec::new();
-    file.take(MAX_SOURCE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| io(e.to_string()))?;
-    if bytes.len() as u64 > MAX_SOURCE_BYTES {
-        return Err(io(format!(
-            "larger than {MAX_SOURCE_BYTES} bytes, the limit for shape files (MAX_SOURCE_BYTES): not read"
-        )));
-    }
+    let bytes = crate::limits::read_input(path, MAX_SOURCE_BYTES, "shape file", "MAX_SOURCE_BYTES")
+        .map_err(io)?;
     String::from_utf8(bytes).map_err(|e| {
         let good = e.utf8_error().valid_up_to();
         let bytes = e.as_bytes();

@@ -194,7 +194,51 @@ fn dev_zero_fails_at_once() {
     assert!(t.elapsed() < Duration::from_secs(1));
     assert!(matches!(e, Error::Io { .. }), "{e}");
     let e = e.to_string();
-    assert!(e.starts_with("/dev/zero: larger than 1048576 bytes"), "{e}");
+    assert_eq!(
+        e,
+        "/dev/zero: is a character device, not a regular file: a shape file must be a regular file (not read)"
+    );
+}
+
+#[test]
+fn a_file_above_the_limit_and_a_fifo_are_refused_without_reading() {
+    let dir = std::env::temp_dir().join(format!("ffr-regr-big-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let big = dir.join("big.toml");
+    std::fs::write(&big, vec![b'#'; limits::MAX_SOURCE_BYTES as usize + 1]).unwrap();
+    let e = Shape::resolve(big.to_str().unwrap(), None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.ends_with("big.toml: larger than 1048576 bytes, the limit for shape files (MAX_SOURCE_BYTES): not read"),
+        "{e}"
+    );
+    // Exactly at the limit it is read (and is a comment, not a shape).
+    std::fs::write(&big, vec![b'#'; limits::MAX_SOURCE_BYTES as usize]).unwrap();
+    let e = Shape::resolve(big.to_str().unwrap(), None)
+        .unwrap_err()
+        .to_string();
+    assert!(!e.contains("larger than"), "{e}");
+    #[cfg(unix)]
+    {
+        // Was: opening a FIFO blocked until a writer came.
+        let fifo = dir.join("fifo.toml");
+        let ok = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .is_ok_and(|s| s.success());
+        if ok {
+            let t = Instant::now();
+            let e = limits::read_input(&fifo, 100, "scene file", "X").unwrap_err();
+            assert!(t.elapsed() < Duration::from_secs(1));
+            assert_eq!(
+                e,
+                "is a FIFO (named pipe), not a regular file: a scene file must be a regular file (not read)"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

@@ -144,6 +144,10 @@ pub fn parse_peer(text: &str, tool: &str, origin: &str) -> (Vec<Point>, Vec<Stri
     (points, problems)
 }
 
+/// Largest peer file read, in bytes (16 MiB; a peer's file has one line per
+/// run, a few hundred lines).
+pub const MAX_PEER_BYTES: u64 = 16 << 20;
+
 /// Read every `*.csv` in `dir` (a missing directory is no error: the
 /// report then says that no peer file was found).
 pub fn read_peers(dir: &Path) -> Peers {
@@ -164,7 +168,10 @@ pub fn read_peers(dir: &Path) -> Peers {
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
-        match std::fs::read_to_string(&f) {
+        let text =
+            ffr_codegen::limits::read_input(&f, MAX_PEER_BYTES, "peer file", "MAX_PEER_BYTES")
+                .and_then(|b| String::from_utf8(b).map_err(|_| "is not UTF-8 text".to_string()));
+        match text {
             Ok(text) => {
                 let (p, pr) = parse_peer(&text, &tool, &f.display().to_string());
                 out.points.extend(p);

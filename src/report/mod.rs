@@ -142,16 +142,16 @@ pub fn run(args: &ReportArgs) -> Result<ReportSummary, Box<dyn std::error::Error
         command,
     };
     let s = run_grid(&grid, &opts)?;
-    println!(
+    crate::outln!(
         "{} runs: {} points, {} failed; {:.1} s wall, {:.1} s CPU in the simulations",
         grid.cases.len(),
         s.points.len(),
         s.failures.len(),
         s.wall_s,
         s.sim_cpu_s
-    );
+    )?;
     for f in &s.files {
-        println!("wrote {}", f.display());
+        crate::outln!("wrote {}", f.display())?;
     }
     Ok(s)
 }
@@ -258,10 +258,21 @@ fn load_average() -> Option<String> {
 /// Run `grid` and write the report to `opts.out`.
 pub fn run_grid(grid: &Grid, opts: &Options) -> Result<ReportSummary, Box<dyn std::error::Error>> {
     check_out_dir(&opts.out)?;
+    let scenes = grid.scenes();
+    // Every file the report will write, checked before the runs.
+    let csv_path = opts.out.join("points.csv");
+    let svg_paths: Vec<PathBuf> = scenes
+        .iter()
+        .map(|s| opts.out.join(format!("{}.svg", s.name())))
+        .collect();
+    let md_path = opts.out.join("report.md");
+    let mut outputs = vec![("a file of --out", csv_path.as_path())];
+    outputs.extend(svg_paths.iter().map(|p| ("a file of --out", p.as_path())));
+    outputs.push(("a file of --out", md_path.as_path()));
+    crate::output::check_outputs(&outputs)?;
     let start = Instant::now();
     let load_before = load_average();
     let peers = data::read_peers(&opts.peers);
-    let scenes = grid.scenes();
     let reporter = Reporter::new(opts.progress, grid.cases.len());
     let mut points = Vec::new();
     let mut failures = Vec::new();
@@ -305,10 +316,7 @@ pub fn run_grid(grid: &Grid, opts: &Options) -> Result<ReportSummary, Box<dyn st
         .cloned()
         .collect();
 
-    let mut files = Vec::new();
-    let csv_path = opts.out.join("points.csv");
-    crate::output::write_atomic(&csv_path, data::csv(&points).as_bytes())?;
-    files.push(csv_path);
+    let mut texts = vec![data::csv(&points)];
     for scene in &scenes {
         let mut pts: Vec<Point> = points
             .iter()
@@ -330,9 +338,7 @@ pub fn run_grid(grid: &Grid, opts: &Options) -> Result<ReportSummary, Box<dyn st
             ),
             &pts,
         )?;
-        let path = opts.out.join(format!("{}.svg", scene.name()));
-        crate::output::write_atomic(&path, svg.as_bytes())?;
-        files.push(path);
+        texts.push(svg);
     }
     let wall_s = start.elapsed().as_secs_f64();
     let md = markdown::report(&markdown::Input {
@@ -346,9 +352,17 @@ pub fn run_grid(grid: &Grid, opts: &Options) -> Result<ReportSummary, Box<dyn st
         sim_cpu_s: sim_cpu,
         load: (load_before, load_after),
     });
-    let md_path = opts.out.join("report.md");
-    crate::output::write_atomic(&md_path, md.as_bytes())?;
+    texts.push(md);
+    // All files or none: every one staged, then all renamed.
+    let mut files = vec![csv_path];
+    files.extend(svg_paths);
     files.push(md_path);
+    let writes: Vec<(&Path, &[u8])> = files
+        .iter()
+        .zip(&texts)
+        .map(|(p, t)| (p.as_path(), t.as_bytes()))
+        .collect();
+    crate::output::write_all_atomic(&writes)?;
     Ok(ReportSummary {
         points,
         failures,

@@ -147,7 +147,12 @@ fn draw(
                     .map(|p| Circle::new((p.error, p.cpu_s), 3, color.filled())),
             )?;
         }
-        legend.push(Entry::Family(fam.clone(), color, peer));
+        // Peers' method names come from their CSV files.
+        legend.push(Entry::Family(
+            crate::plot::plot_text(fam, crate::plot::MAX_LABEL_CHARS),
+            color,
+            peer,
+        ));
     }
 
     // The legend, beside the chart.

@@ -244,6 +244,8 @@ pub fn run_cases(
     }
     std::fs::create_dir_all(out)
         .map_err(|e| format!("{}: cannot create the directory: {e}", out.display()))?;
+    let file = out.join("stability.md");
+    crate::output::check_outputs(&[("the file of --out", &file)])?;
     let start = Instant::now();
     let tty = std::io::stderr().is_terminal();
     let bar = (progress == Progress::Auto && tty).then(|| {
@@ -285,7 +287,6 @@ pub fn run_cases(
     }
     let wall_s = start.elapsed().as_secs_f64();
     let md = markdown(title, &results, wall_s);
-    let file = out.join("stability.md");
     crate::output::write_atomic(&file, md.as_bytes())?;
     Ok(Summary {
         results,
@@ -389,14 +390,14 @@ pub fn run_suite(
 ) -> Result<Summary, Box<dyn std::error::Error>> {
     let s = run_cases(cases, out, title, progress)?;
     let failed = s.failed();
-    println!(
+    crate::outln!(
         "{} cases: {} passed, {} failed; {:.1} s wall",
         s.results.len(),
         s.results.len() - failed.len(),
         failed.len(),
         s.wall_s
-    );
-    println!("wrote {}", s.file.display());
+    )?;
+    crate::outln!("wrote {}", s.file.display())?;
     if !failed.is_empty() {
         let names: Vec<&str> = failed.iter().map(|r| r.name.as_str()).collect();
         return Err(format!(
