@@ -38,7 +38,10 @@ fn a_body_placed_off_its_pin_is_moved_not_bent() {
     let exact = pendulum();
     let off = exact.replacen("position = [0.0, 0.0]", "position = [0.001, 0.0]", 1);
     assert_ne!(exact, off, "the pendulum scene lost its position line");
-    let (a, b) = (run(&load(&exact).unwrap()).unwrap(), run(&load(&off).unwrap()).unwrap());
+    let (a, b) = (
+        run(&load(&exact).unwrap()).unwrap(),
+        run(&load(&off).unwrap()).unwrap(),
+    );
     assert!(b.failed.is_none(), "{:?}", b.failed);
     let col = |r: &ffr::scene::SceneRun, n: &str| {
         r.columns[r.names.iter().position(|x| x == n).unwrap()].clone()
@@ -46,9 +49,16 @@ fn a_body_placed_off_its_pin_is_moved_not_bent() {
     let defl = col(&b, "tip_deflection");
     assert_eq!(defl[0], 0.0, "the projection bent the bar: {}", defl[0]);
     let (ta, tb) = (col(&a, "tip_y"), col(&b, "tip_y"));
-    let diff = ta.iter().zip(&tb).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
-    assert!(diff < 1e-9, "the shifted pendulum moves differently: {diff:.3e} m");
-    let e = col(&b, "total");
+    let diff = ta
+        .iter()
+        .zip(&tb)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        diff < 1e-9,
+        "the shifted pendulum moves differently: {diff:.3e} m"
+    );
+    let e = col(&b, "energy");
     let drift = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max);
     // m g L / 2 = 2.7 kg/m · 1e-4 m² · 1 m · 9.81 / 2 ≈ 1.3 J.
     assert!(drift < 1e-5, "energy drift {drift:.3e} J");
@@ -61,15 +71,26 @@ fn a_body_placed_off_its_pin_is_moved_not_bent() {
 #[test]
 fn joints_that_cannot_close_without_straining_a_body_are_refused_at_the_joint() {
     let mut clamped = pendulum().replacen("kind = \"revolute\"", "kind = \"fixed\"", 1);
-    clamped.push_str("\n[[joints]]\nkind = \"revolute\"\na = \"ground@[0.5, 0.0]\"\nb = \"bar@x=1.0\"\n");
-    let e = load(&clamped).err().expect("the contradictory joints were accepted").to_string();
+    clamped.push_str(
+        "\n[[joints]]\nkind = \"revolute\"\na = \"ground@[0.5, 0.0]\"\nb = \"bar@x=1.0\"\n",
+    );
+    let e = load(&clamped)
+        .err()
+        .expect("the contradictory joints were accepted")
+        .to_string();
     assert!(e.starts_with(&joint_line(&clamped, 2)), "{e}");
-    assert!(e.contains("cannot satisfy it without straining a body"), "{e}");
+    assert!(
+        e.contains("cannot satisfy it without straining a body"),
+        "{e}"
+    );
     assert!(e.contains("start violated by 5.000e-1"), "{e}");
 
     let mut ends = pendulum();
     ends.push_str("\n[[joints]]\nkind = \"revolute\"\na = \"bar@x=0.0\"\nb = \"bar@x=1.0\"\n");
-    let e = load(&ends).err().expect("a joint between a beam's ends was accepted").to_string();
+    let e = load(&ends)
+        .err()
+        .expect("a joint between a beam's ends was accepted")
+        .to_string();
     assert!(e.starts_with(&joint_line(&ends, 2)), "{e}");
     assert!(e.contains("leaves 1.000e0"), "{e}");
 }
@@ -79,14 +100,21 @@ fn joints_that_cannot_close_without_straining_a_body_are_refused_at_the_joint() 
 #[test]
 fn a_redundant_joint_is_refused_at_the_joint() {
     let mut text = pendulum();
-    text.push_str("\n[[joints]]\nkind = \"revolute\"\na = \"ground@[0.0, 0.0]\"\nb = \"bar@x=0.0\"\n");
-    let e = load(&text).err().expect("a redundant joint was accepted").to_string();
+    text.push_str(
+        "\n[[joints]]\nkind = \"revolute\"\na = \"ground@[0.0, 0.0]\"\nb = \"bar@x=0.0\"\n",
+    );
+    let e = load(&text)
+        .err()
+        .expect("a redundant joint was accepted")
+        .to_string();
     assert!(e.starts_with(&joint_line(&text, 2)), "{e}");
     assert!(e.contains("redundant"), "{e}");
     // The same two joints on different points are fine (a beam pinned at
     // both ends, placed to fit).
     let mut two = pendulum();
-    two.push_str("\n[[joints]]\nkind = \"revolute\"\na = \"ground@[1.0, 0.0]\"\nb = \"bar@x=1.0\"\n");
+    two.push_str(
+        "\n[[joints]]\nkind = \"revolute\"\na = \"ground@[1.0, 0.0]\"\nb = \"bar@x=1.0\"\n",
+    );
     let s = load(&two).unwrap();
     let r = run(&s).unwrap();
     assert!(r.failed.is_none(), "{:?}", r.failed);
@@ -98,7 +126,9 @@ fn a_redundant_joint_is_refused_at_the_joint() {
 #[test]
 fn an_elastic_state_that_the_scene_gives_may_be_corrected() {
     let mut text = pendulum().replacen("reference = \"clamped\"", "reference = \"pinned\"", 1);
-    text.push_str("\n[[joints]]\nkind = \"revolute\"\na = \"ground@[1.0, 0.0]\"\nb = \"bar@x=1.0\"\n");
+    text.push_str(
+        "\n[[joints]]\nkind = \"revolute\"\na = \"ground@[1.0, 0.0]\"\nb = \"bar@x=1.0\"\n",
+    );
     let stretched = format!("{text}\n[bodies.bar.elastic]\nq = {{ ux_4 = 1e-4 }}\n");
     // A `[bodies.bar.elastic]` table after the joints is still the bar's.
     let s = load(&stretched).unwrap();
@@ -107,7 +137,10 @@ fn an_elastic_state_that_the_scene_gives_may_be_corrected() {
     let labels = &body.body.layout().labels;
     let k = labels.iter().position(|l| l == "ux_4").unwrap();
     let u = st.q[body.f_offset() + k];
-    assert!(u.abs() < 1e-12, "the stretch was not taken back: ux_4 = {u:e}");
+    assert!(
+        u.abs() < 1e-12,
+        "the stretch was not taken back: ux_4 = {u:e}"
+    );
 }
 
 /// Runs that diverge while every number stays finite stop with an error,
@@ -117,12 +150,17 @@ fn divergence_stops_the_run_with_the_steps_it_took() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     let crank = std::fs::read_to_string(dir.join("slider_crank.toml")).unwrap();
     // A 1 MHz crank.
-    let fast = crank.replacen("omega = 150.0", "omega = 6.3e6", 1);
+    let fast = crank.replace("omega = 150.0", "omega = 6.3e6");
     assert_ne!(fast, crank);
     let r = run(&load(&fast).unwrap()).unwrap();
     let f = r.failed.as_deref().expect("the 1 MHz crank ran to its end");
     assert!(f.contains("diverged") && f.contains("deformed by"), "{f}");
-    assert!(r.steps >= 1 && r.steps + 1 == r.t.len(), "steps {} for {} times", r.steps, r.t.len());
+    assert!(
+        r.steps >= 1 && r.steps + 1 == r.t.len(),
+        "steps {} for {} times",
+        r.steps,
+        r.t.len()
+    );
     assert!(r.columns.iter().flatten().all(|v| v.is_finite()));
     // A PD motor with an absurd gain on the two-link arm.
     let arm = std::fs::read_to_string(dir.join("two_link_arm.toml")).unwrap();
@@ -150,13 +188,18 @@ fn energy_gained_from_nowhere_stops_an_undriven_run() {
     m.deformation = f64::INFINITY;
     s.system.set_monitor(m);
     let r = run(&s).unwrap();
-    let f = r.failed.as_deref().expect("RK4 beyond its limit ran to its end");
+    let f = r
+        .failed
+        .as_deref()
+        .expect("RK4 beyond its limit ran to its end");
     assert!(
         f.contains("gained from nowhere") || f.contains("non-finite"),
         "{f}"
     );
     // Within its limit the same run passes the monitor.
-    let ok = text.replacen("dt = 2e-4", "dt = 2e-5", 1).replacen("t_end = 1.0", "t_end = 0.05", 1);
+    let ok = text
+        .replacen("dt = 2e-4", "dt = 2e-5", 1)
+        .replacen("t_end = 1.0", "t_end = 0.05", 1);
     let r = run(&load(&ok).unwrap()).unwrap();
     assert!(r.failed.is_none(), "{:?}", r.failed);
 }
@@ -166,7 +209,10 @@ fn energy_gained_from_nowhere_stops_an_undriven_run() {
 #[test]
 fn recorded_values_are_bounded_at_load_time() {
     let text = pendulum().replacen("dt = 1e-3", "dt = 1e-9", 1);
-    let e = load(&text).err().expect("1e9 steps × 8 columns was accepted").to_string();
+    let e = load(&text)
+        .err()
+        .expect("1e9 steps × 8 columns was accepted")
+        .to_string();
     let line = text.lines().position(|l| l.starts_with("dt = ")).unwrap() + 1;
     assert!(e.starts_with(&format!("case.toml:{line}:")), "{e}");
     assert!(e.contains("recorded values"), "{e}");
