@@ -55,12 +55,7 @@ pub fn time_svg(
             .draw()?;
         for (i, (name, v)) in series.iter().enumerate() {
             let color = COLORS[i % COLORS.len()];
-            let pts: Vec<(f64, f64)> = t
-                .iter()
-                .zip(v.iter())
-                .filter(|(_, y)| y.is_finite())
-                .map(|(a, b)| (*a, *b))
-                .collect();
+            let pts = envelope(t, v, PLOT_BUCKETS);
             chart
                 .draw_series(LineSeries::new(pts, color))?
                 .label(plot_text(name, MAX_LABEL_CHARS))
@@ -74,6 +69,58 @@ pub fn time_svg(
         root.present()?;
     }
     Ok(svg)
+}
+
+/// Samples per series above which a plot draws the envelope (the smallest
+/// and largest value of each of this many time buckets) instead of every
+/// point: a line 900 pixels wide shows no more, and a run of 10⁷ steps
+/// would otherwise write a plot of hundreds of megabytes.
+const PLOT_BUCKETS: usize = 2000;
+
+/// The finite points of `(t, v)`; beyond `4 buckets` of them, the first and
+/// the smallest and largest of each of `buckets` equal runs of samples, in
+/// time order.
+fn envelope(t: &[f64], v: &[f64], buckets: usize) -> Vec<(f64, f64)> {
+    let finite = || {
+        t.iter()
+            .zip(v.iter())
+            .filter(|(_, y)| y.is_finite())
+            .map(|(a, b)| (*a, *b))
+    };
+    let n = t.len().min(v.len());
+    if n <= 4 * buckets {
+        return finite().collect();
+    }
+    let mut out = Vec::with_capacity(2 * buckets + 2);
+    for b in 0..buckets {
+        let (lo, hi) = (b * n / buckets, (b + 1) * n / buckets);
+        let mut min: Option<(f64, f64)> = None;
+        let mut max: Option<(f64, f64)> = None;
+        for i in lo..hi {
+            let p = (t[i], v[i]);
+            if !p.1.is_finite() {
+                continue;
+            }
+            if min.is_none_or(|m| p.1 < m.1) {
+                min = Some(p);
+            }
+            if max.is_none_or(|m| p.1 > m.1) {
+                max = Some(p);
+            }
+        }
+        if let (Some(a), Some(b)) = (min, max) {
+            if a.0 <= b.0 {
+                out.push(a);
+                if b != a {
+                    out.push(b);
+                }
+            } else {
+                out.push(b);
+                out.push(a);
+            }
+        }
+    }
+    out
 }
 
 /// [`time_svg`] written to `path`.
@@ -108,4 +155,31 @@ pub fn csv(t: &[f64], names: &[&str], columns: &[&[f64]]) -> String {
         s.push('\n');
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::envelope;
+
+    #[test]
+    fn long_series_are_drawn_as_their_envelope() {
+        let n = 100_000;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-3).collect();
+        let v: Vec<f64> = t.iter().map(|x| (7.0 * x).sin() + 1e-3 * x).collect();
+        let e = envelope(&t, &v, 500);
+        assert!(e.len() <= 1000 && e.len() >= 500, "{}", e.len());
+        assert!(e.windows(2).all(|w| w[0].0 < w[1].0), "not in time order");
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        assert!(e.iter().any(|p| p.1 == lo) && e.iter().any(|p| p.1 == hi));
+        // Short series keep every finite point.
+        let short = envelope(&t[..100], &v[..100], 500);
+        assert_eq!(short.len(), 100);
+        let mut w = v[..100].to_vec();
+        w[3] = f64::NAN;
+        assert_eq!(envelope(&t[..100], &w, 500).len(), 99);
+    }
 }

@@ -1,7 +1,7 @@
 //! Mutation fuzzing of scene files (issue 17): the built-in scenes, mutated
 //! at the level of their text, through the loader and the runner.
 //!
-//! Mutations (1–4 per case, from a seeded `proptest` RNG): a number scaled
+//! Mutations (one per case, 2–4 in one case of four; from a seeded `proptest` RNG): a number scaled
 //! by `10^k` (`k` in −12..12), negated, set to 0, to a huge or tiny value
 //! or to `nan`/`inf`; a string replaced (body names, markers with shifted
 //! `x = …` or points, profile and kind names, control characters); a line
@@ -123,7 +123,12 @@ fn pick<'a, T>(rng: &mut TestRng, xs: &'a [T]) -> &'a T {
 
 fn mutate(rng: &mut TestRng, text: &str) -> String {
     let mut t = text.to_string();
-    for _ in 0..rng.random_range(1..=4) {
+    let n = if rng.random_range(0..4) == 0 {
+        rng.random_range(2..=4)
+    } else {
+        1
+    };
+    for _ in 0..n {
         let (nums, strs) = tokens(&t);
         match rng.random_range(0..10) {
             0..=3 if !nums.is_empty() => {

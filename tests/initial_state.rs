@@ -217,3 +217,31 @@ fn recorded_values_are_bounded_at_load_time() {
     assert!(e.starts_with(&format!("case.toml:{line}:")), "{e}");
     assert!(e.contains("recorded values"), "{e}");
 }
+
+/// A scene of thousands of bodies would need a dense border matrix of
+/// gigabytes: refused before it is allocated.
+#[test]
+fn a_system_too_large_for_its_solver_is_refused_before_allocation() {
+    let mut text = String::from("dimension = 2\nt_end = 0.01\ndt = 0.01\n");
+    for i in 0..3000 {
+        text.push_str(&format!(
+            "[bodies.b{i}]\nmass = 1.0\ninertia = 0.1\nposition = [{i}.0, 0.0]\n"
+        ));
+    }
+    for i in 0..3000 {
+        text.push_str(&format!(
+            "[[joints]]\nkind = \"revolute\"\na = \"ground@[{i}.0, 0.0]\"\nb = \"b{i}\"\n"
+        ));
+    }
+    let started = std::time::Instant::now();
+    let scene = load(&text).unwrap();
+    let e = run(&scene)
+        .err()
+        .expect("15 000 border unknowns were accepted")
+        .to_string();
+    assert!(
+        e.contains("border unknowns") && e.contains("MAX_BORDER_ENTRIES"),
+        "{e}"
+    );
+    assert!(started.elapsed().as_secs_f64() < 20.0);
+}

@@ -26,6 +26,11 @@ use crate::rotation::Rotation;
 use crate::system::System;
 use nalgebra::Vector3;
 
+/// The most entries of the dense border matrix (frame coordinates, joint
+/// rows and marker coordinates of every body, squared) a system may need:
+/// 2²⁶, 512 MiB, about 8000 border unknowns.
+pub const MAX_BORDER_ENTRIES: usize = 1 << 26;
+
 /// Where an unknown lives in the solver.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Slot {
@@ -337,6 +342,14 @@ impl<'s, B: Body> Assembly<'s, B> {
             n_classes += 1;
         }
         class_link.resize(n_classes as usize, None);
+        // The border's Schur complement is dense: bound it before allocating.
+        let nb = n_border as usize;
+        if nb.saturating_mul(nb) > MAX_BORDER_ENTRIES {
+            return Err(Error::InvalidInput(format!(
+                "the system has {nb} border unknowns (frame coordinates, joint rows and the elastic coordinates at markers), whose dense Schur complement would need {:.1} GiB: more than the limit of {MAX_BORDER_ENTRIES} entries (MAX_BORDER_ENTRIES); use fewer bodies or joints",
+                (nb as f64).powi(2) * 8.0 / (1u64 << 30) as f64
+            )));
+        }
         let shapes: Vec<BlockShape> = blocks
             .iter()
             .zip(&body_border)

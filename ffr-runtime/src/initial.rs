@@ -31,6 +31,12 @@ use nalgebra::{DMatrix, DVector};
 /// checks form (2²⁶ entries, 512 MiB).
 pub const MAX_DENSE_ENTRIES: usize = 1 << 26;
 
+/// The most work of one dense factorization of the set-up checks,
+/// `m · k · min(m, k)` for `m` constraint rows and `k` coordinates the joints
+/// touch (2³⁴ ≈ 1.7e10 operations, seconds): a scene of thousands of joints
+/// is refused rather than left to compute for hours.
+pub const MAX_DENSE_WORK: usize = 1 << 34;
+
 /// Positions are consistent when `‖Φ‖∞ ≤ POSITION_TOL (1 + ‖q‖∞)`.
 const POSITION_TOL: f64 = 1e-10;
 /// Rows whose remainder after Gram–Schmidt is below this (relative to the
@@ -173,6 +179,12 @@ pub(crate) fn make_consistent<B: Body>(
     let mut d = Dense::new(asm)?;
     d.eval(asm, t0, q);
     let touched = d.cols.clone();
+    let (m, k) = (asm.m, touched.len());
+    if m.saturating_mul(k).saturating_mul(m.min(k)) > MAX_DENSE_WORK {
+        return Err(Error::InvalidInput(format!(
+            "{m} constraint rows on {k} coordinates: the set-up checks of the joints would take more than {MAX_DENSE_WORK} operations (MAX_DENSE_WORK); the scene has too many joints"
+        )));
+    }
     let stages = stages(asm, &touched);
     let scale = 1.0 + max_abs(q);
     let start = joint_violations(asm, &d.phi);

@@ -339,6 +339,8 @@ fn simulate<B: crate::runtime::Body>(
             | RtError::Singular { .. }
             | RtError::StepFailed { .. }),
         ) => {
+            // The steps recorded before the failure (the summary is lost).
+            res.steps = res.t.len().saturating_sub(1);
             res.diverged = Some(Divergence {
                 t: res.t.last().copied().unwrap_or(0.0),
                 reason: e.to_string(),
