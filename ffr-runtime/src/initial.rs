@@ -91,6 +91,19 @@ fn joint_violations<B: Body>(asm: &Assembly<B>, phi: &[f64]) -> Vec<f64> {
     v
 }
 
+/// The joint with the largest violation `√Σ r²` of its rows in `r`, and
+/// that violation; with no joint (only Euler-parameter normalizations
+/// violated), [`Error::Inconsistent`].
+fn worst_joint<B: Body>(asm: &Assembly<B>, r: &[f64]) -> Result<(usize, f64)> {
+    joint_violations(asm, r)
+        .into_iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .ok_or(Error::Inconsistent {
+            violation: max_abs(r),
+        })
+}
+
 fn max_abs(x: &[f64]) -> f64 {
     x.iter().fold(0.0f64, |s, v| s.max(v.abs()))
 }
@@ -230,12 +243,7 @@ pub(crate) fn make_consistent<B: Body>(
         }
     }
     if !ok {
-        let left = joint_violations(asm, &d.phi);
-        let (j, &gap) = left
-            .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.total_cmp(b.1))
-            .expect("a violated row belongs to a joint");
+        let (j, gap) = worst_joint(asm, &d.phi)?;
         let c = &asm.sys.constraints[j];
         let any_given = asm.sys.bodies.iter().any(|b| b.elastic_state);
         let moved = if any_given {
@@ -351,13 +359,7 @@ pub(crate) fn make_consistent<B: Body>(
         }
     }
     if !ok {
-        let res = rate(&d, v);
-        let left = joint_violations(asm, &res);
-        let (j, &gap) = left
-            .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.total_cmp(b.1))
-            .expect("a violated row belongs to a joint");
+        let (j, gap) = worst_joint(asm, &rate(&d, v))?;
         let c = &asm.sys.constraints[j];
         return Err(Error::Joint {
             joint: j,
