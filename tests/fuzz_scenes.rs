@@ -14,7 +14,8 @@
 //! - no panic;
 //! - either a refusal naming `fuzz.toml:line:col` (or a failed run whose
 //!   reason is given), or a run whose every output is finite at every step
-//!   and that reached `t_end`;
+//!   and that reached `t_end`, every deflection within twice its body's
+//!   length (the divergence monitor's bound);
 //! - at most [`MAX_LIVE_BYTES`] of heap live at any time.
 //!
 //! `cargo test --test fuzz_scenes` runs [`DEFAULT_CASES`] cases with a fixed
@@ -29,7 +30,7 @@ use std::alloc::{GlobalAlloc, Layout, System as Sys};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-const DEFAULT_CASES: usize = 250;
+const DEFAULT_CASES: usize = 400;
 /// Heap that may be live at once while a case runs.
 const MAX_LIVE_BYTES: usize = 512 << 20;
 /// Steps a case may take.
@@ -232,12 +233,14 @@ fn mutate(rng: &mut TestRng, text: &str) -> String {
                 t = out.join("\n");
             }
             _ => {
-                // A body off its place: shift a `position`.
+                // A body off its place: shift its `position` by up to 1 cm.
                 if let Some(p) = t.find("position = [") {
                     let s = p + "position = [".len();
-                    t.insert_str(s, &format!("{:e} + ", rng.random_range(-0.01..0.01)));
-                    t = t.replacen(" + ", "", 1);
-                    let _ = s;
+                    let e = s + t[s..].find([',', ']']).unwrap_or(0);
+                    if let Ok(x) = t[s..e].trim().parse::<f64>() {
+                        let shifted = format!("{:?}", x + rng.random_range(-0.01..0.01));
+                        t.replace_range(s..e, &shifted);
+                    }
                 }
             }
         }
@@ -325,7 +328,21 @@ fn check(text: &str, base: &Path) -> Result<&'static str, String> {
         }
         return Ok("failed");
     }
-    for (name, col) in run.names.iter().zip(&run.columns) {
+    for ((name, col), out) in run.names.iter().zip(&run.columns).zip(&scene.outputs) {
+        // A deflection is bounded by the monitor (its body's length at 17
+        // points of the axis; twice that anywhere between them).
+        if let (scene::OutputKind::Deflection(_), Some(b)) = (&out.kind, out.marker.body) {
+            let l = scene.system.bodies()[b.0]
+                .body
+                .layout()
+                .length
+                .unwrap_or(f64::INFINITY);
+            if let Some(v) = col.iter().find(|v| v.abs() > 2.0 * l) {
+                return Err(format!(
+                    "run succeeded with deflection `{name}` = {v} m on a body of length {l} m"
+                ));
+            }
+        }
         if col.len() != run.t.len() {
             return Err(format!(
                 "output `{name}` has {} values for {} times",
