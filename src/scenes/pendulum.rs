@@ -341,30 +341,32 @@ pub fn run_with(
 /// [`run`] and print a short summary.
 pub fn run_and_print(args: &PendulumArgs) -> Result<PendulumReport, Box<dyn std::error::Error>> {
     let r = run(args)?;
-    println!(
+    crate::outln!(
         "flexible pendulum: {} × {} (aluminium 1 m, 10 × 10 mm, clamped reference, compiled kernels), pinned at node 0, g = {GRAVITY} m/s², no damping",
         args.elements,
         args.beam.name()
-    );
+    )?;
     let method = match args.method {
         Method::Alpha => format!("generalized-α ρ∞ = {}", args.rho_inf),
         Method::Rk4 => "RK4 (Baumgarte α = β = 10/s)".into(),
     };
-    println!(
+    crate::outln!(
         "{method}, dt = {} s, t_end = {} s: {} steps, {} Newton iterations, {} iteration matrices, wall {:.3} s",
         args.dt, args.t_end, r.steps, r.newton_iterations, r.jacobians, r.wall
-    );
-    println!(
+    )?;
+    crate::outln!(
         "energy: E(0) = {:.6} J, E_ref = m g L/2 = {:.6} J, max |E − E(0)|/E_ref = {:.3e}, (E(t_end) − E(0))/E_ref = {:.3e}",
         r.energy0, r.energy_ref, r.energy_drift, r.energy_change
-    );
-    println!(
+    )?;
+    crate::outln!(
         "constraints: max ‖Φ‖∞ = {:.3e}, max ‖Φ̇‖∞ = {:.3e}",
-        r.max_phi, r.max_phi_dot
-    );
-    println!(
+        r.max_phi,
+        r.max_phi_dot
+    )?;
+    crate::outln!(
         "free end: lowest y = {:.4} m, largest elastic displacement = {:.3e} m",
-        r.min_tip_y, r.max_tip_deflection
-    );
+        r.min_tip_y,
+        r.max_tip_deflection
+    )?;
     Ok(r)
 }

@@ -1073,18 +1073,21 @@ pub fn run(args: &SliderCrankArgs) -> Result<Report, Box<dyn std::error::Error>>
     write_csv(&csv, &run)?;
 
     let steps = run.t.len().saturating_sub(1);
-    println!(
+    crate::outln!(
         "flexible slider-crank (Simeon, IVP test set): crank 0.15 m at 150 rad/s, steel rod 0.3 m 8×8 mm as {} beam2 elements (pinned, consistent, compiled kernels), slider 0.075552 kg on a prismatic joint",
         args.elements
-    );
+    )?;
     let last = run.t.len() - 1;
-    println!(
+    crate::outln!(
         "t = {:.4} s: midpoint deflection {:.6e} m, phi2 {:.10} rad, x3 {:.10} m",
-        run.t[last], run.mid_deflection[last], run.rod_angle[last], run.slider_x[last]
-    );
+        run.t[last],
+        run.mid_deflection[last],
+        run.rod_angle[last],
+        run.slider_x[last]
+    )?;
     if (run.t[last] - T_END).abs() < 1e-9 {
         let rel = |a: f64, b: f64| (a - b) / b.abs();
-        println!(
+        crate::outln!(
             "published at 0.1 s: midpoint deflection {:.6e} m ({:+.2} %), phi2 {:.10} ({:+.1e} rad), x3 {:.10} ({:+.1e} m)",
             PUBLISHED.q[0],
             100.0 * rel(run.mid_deflection[last], PUBLISHED.q[0]),
@@ -1092,26 +1095,26 @@ pub fn run(args: &SliderCrankArgs) -> Result<Report, Box<dyn std::error::Error>>
             run.rod_angle[last] - PUBLISHED.phi2,
             PUBLISHED.x3,
             run.slider_x[last] - PUBLISHED.x3,
-        );
+        )?;
     } else {
-        println!(
+        crate::outln!(
             "(the published values are at t = 0.1 s: midpoint deflection {:.6e} m)",
             PUBLISHED.q[0]
-        );
+        )?;
     }
     let peak = run
         .mid_deflection
         .iter()
         .fold(0.0f64, |a, b| a.max(b.abs()));
-    println!(
+    crate::outln!(
         "max |midpoint deflection| {peak:.4e} m, max ‖Φ‖∞ {:.1e}",
         run.max_phi
-    );
-    println!(
+    )?;
+    crate::outln!(
         "steps: {steps} of dt = {} s ({} Newton iterations, {} iteration matrices), wall time {wall:.3} s",
         args.dt, run.newton.0, run.newton.1
-    );
-    println!("wrote {}", csv.display());
+    )?;
+    crate::outln!("wrote {}", csv.display())?;
     Ok(Report { run, wall, csv })
 }
 
