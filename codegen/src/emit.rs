@@ -185,13 +185,12 @@ fn out_name(a: OutArr) -> &'static str {
 /// `let` bindings of the inputs and temporaries, then the output assignments.
 fn program_body(p: &Program, out: &mut String) {
     for (slot, input) in &p.inputs {
-        writeln!(
-            out,
-            "let {} = {};",
-            p.names[*slot as usize],
-            input_source(*input)
-        )
-        .unwrap();
+        let (name, src) = (&p.names[*slot as usize], input_source(*input));
+        // A scalar input already bound under its own name (`x0`) needs no
+        // `let x0 = x0;`.
+        if *name != src {
+            writeln!(out, "let {name} = {src};").unwrap();
+        }
     }
     for (slot, e) in &p.stmts {
         write!(out, "let {} = ", p.names[*slot as usize]).unwrap();
@@ -250,7 +249,7 @@ impl Views<'_> {
         }
     }
     fn scalar(&mut self, name: &str, src: &str, f: impl Fn(Sym) -> bool) {
-        if reads(self.p, f) {
+        if reads(self.p, f) && name != src {
             writeln!(self.s, "let {name} = {src};").unwrap();
         }
     }
