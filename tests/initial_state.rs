@@ -172,8 +172,11 @@ fn divergence_stops_the_run_with_the_steps_it_took() {
     assert!(r.steps > 0, "a failed run reported 0 steps");
 }
 
-/// The energy check on its own: a pendulum under RK4 beyond its stability
-/// limit with the deformation check relaxed gains energy from nowhere.
+/// The energy check on its own: the pendulum under RK4 just above its
+/// stability limit (dt = 4.3e-5 s; 4.2e-5 s runs, 4.4e-5 s reaches
+/// non-finite numbers first), with the deformation check relaxed, gains
+/// energy from nowhere while every number is still finite (measured: 96.7 J
+/// from 0 J at step 288).
 #[test]
 fn energy_gained_from_nowhere_stops_an_undriven_run() {
     let text = pendulum()
@@ -182,7 +185,7 @@ fn energy_gained_from_nowhere_stops_an_undriven_run() {
             "integrator = { kind = \"rk4\" }",
             1,
         )
-        .replacen("dt = 1e-3", "dt = 2e-4", 1);
+        .replacen("dt = 1e-3", "dt = 4.3e-5", 1);
     let mut s = load(&text).unwrap();
     let mut m = s.system.monitor();
     m.deformation = f64::INFINITY;
@@ -193,13 +196,13 @@ fn energy_gained_from_nowhere_stops_an_undriven_run() {
         .as_deref()
         .expect("RK4 beyond its limit ran to its end");
     assert!(
-        f.contains("gained from nowhere") || f.contains("non-finite"),
+        f.contains("gained from nowhere") && !f.contains("non-finite"),
         "{f}"
     );
     // Within its limit the same run passes the monitor.
-    let ok = text
-        .replacen("dt = 2e-4", "dt = 2e-5", 1)
-        .replacen("t_end = 1.0", "t_end = 0.05", 1);
+    let ok =
+        text.replacen("dt = 4.3e-5", "dt = 2e-5", 1)
+            .replacen("t_end = 1.0", "t_end = 0.05", 1);
     let r = run(&load(&ok).unwrap()).unwrap();
     assert!(r.failed.is_none(), "{:?}", r.failed);
 }
