@@ -33,15 +33,9 @@ fn name(shape: &str, scene: usize, free: bool, f: Formalism, s: Stiffening) -> S
     )
 }
 
+/// The enum variant of a kernel set's file name.
 fn camel(s: &str) -> String {
-    s.split('_')
-        .map(|p| {
-            let mut c = p.chars();
-            c.next()
-                .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
-                .unwrap_or_default()
-        })
-        .collect()
+    ffr_codegen::builder::camel_case(s)
 }
 
 fn main() {

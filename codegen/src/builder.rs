@@ -223,6 +223,19 @@ impl Entry {
     }
 }
 
+/// `snake` in CamelCase: each `_`-separated part with its first letter
+/// capitalized (`two_link_arm` → `TwoLinkArm`).
+pub fn camel_case(snake: &str) -> String {
+    snake
+        .split('_')
+        .map(|part| {
+            let mut c = part.chars();
+            let first = c.next().map(|f| f.to_ascii_uppercase());
+            first.into_iter().chain(c).collect::<String>()
+        })
+        .collect()
+}
+
 /// `name` in snake case (`ArmScene` → `arm_scene`, `two-link arm` → `two_link_arm`).
 pub fn snake_case(name: &str) -> String {
     let mut out = String::new();
@@ -502,15 +515,7 @@ pub fn type_name_of(name: &str) -> Result<String, Error> {
             "{m} (a body name must be a Rust identifier, e.g. `arm` or `two_link_arm`)"
         ))
     })?;
-    let camel: String = name
-        .split('_')
-        .filter(|part| !part.is_empty())
-        .map(|part| {
-            let mut c = part.chars();
-            let first = c.next().map(|f| f.to_ascii_uppercase());
-            first.into_iter().chain(c).collect::<String>()
-        })
-        .collect();
+    let camel = camel_case(name);
     if camel.is_empty() {
         return Err(Error::Name(format!(
             "body name `{name}` has no letters or digits for its type name (expected e.g. `arm` or `two_link_arm`)"

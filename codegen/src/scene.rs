@@ -310,15 +310,7 @@ fn shorten_quoted(msg: &str) -> String {
 /// the scene type's prefix): the CamelCase of its snake case (`two_link` and
 /// `twoLink` both give `TwoLink`).
 pub fn body_type_name(name: &str) -> String {
-    crate::builder::snake_case(name)
-        .split('_')
-        .map(|p| {
-            let mut c = p.chars();
-            c.next()
-                .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
-                .unwrap_or_default()
-        })
-        .collect()
+    crate::builder::camel_case(&crate::builder::snake_case(name))
 }
 
 /// Read a scene file through a bound of [`MAX_SCENE_BYTES`] (only a regular
