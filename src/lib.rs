@@ -1,30 +1,46 @@
-//! **ffr**: floating frame of reference (FFR) code generation and simulation
-//! for flexible multibody dynamics.
+//! **ffr**: floating frame of reference (FFR) flexible multibody dynamics
+//! from generated code.
 //!
-//! - [`codegen`]: exact symbolic generator of FFR element kernels from shape functions.
-//! - [`flex_body`]: the attribute that generates a body at compile time.
-//! - [`runtime`]: the dynamics (bodies, joints, forces, generalized-α, RK4).
-//! - [`compiled`]: the built-in shapes' kernels compiled into this crate, and
-//!   [`TapeKernels`]: kernels of shapes chosen at run time, on tapes
-//!   (`ffr_runtime::tape`).
-//! - [`scenes`]: the benchmark scenes, written against the public API.
-//! - [`report`]: `ffr report`, work-precision diagrams of the scenes.
+//! What a crate that simulates flexible bodies depends on (its `build.rs`
+//! depends on `ffr-codegen` only as a build-dependency):
+//!
+//! - [`flex_body`]: the attribute that generates a body's element kernels at
+//!   compile time;
+//! - [`runtime`]: bodies, joints, forces, generalized-α and RK4;
+//! - [`prelude`]: the names a simulation uses;
+//! - [`Error`]: one error type to match on.
+//!
+//! Behind features:
+//!
+//! - `scene-files`: [`scene`] (TOML scene files: loader and runner),
+//!   [`kernels::BeamSpec`] (a beam described at run time, on tapes of the
+//!   generator's programs), [`modal`] (reduced bodies) and [`codegen`];
+//! - `builtin-kernels` (implies `scene-files`): the built-in shapes'
+//!   compiled kernels, used by `BeamSpec` and scene files instead of tapes.
+//!
+//! The command line (`ffr run`, `ffr report`, …) is the package `ffr-cli`.
 
-pub use ffr_codegen as codegen;
 pub use ffr_macros::*;
 pub use ffr_runtime as runtime;
 pub use nalgebra;
 
-pub mod cli;
-pub mod compiled;
-pub mod modal;
-pub mod output;
-pub mod plot;
-pub mod reference;
-pub mod report;
-pub mod scene;
-pub mod scenes;
-pub mod stability;
+mod error;
+pub mod prelude;
 
+pub use error::{Error, Result};
+
+#[cfg(feature = "scene-files")]
+pub use ffr_codegen as codegen;
+#[cfg(feature = "scene-files")]
+pub mod invariants;
+#[cfg(feature = "scene-files")]
+pub mod kernels;
+#[cfg(feature = "scene-files")]
+pub mod modal;
+#[cfg(feature = "scene-files")]
+pub mod scene;
+
+#[cfg(feature = "scene-files")]
 pub use crate::runtime::tape::TapeKernels;
-pub use compiled::{BeamSpec, FrameModel, Kernels};
+#[cfg(feature = "scene-files")]
+pub use kernels::{BeamSpec, FrameModel, Kernels};

@@ -1,30 +1,25 @@
-//! `ffr modes` and `ffr export`: a body's modal reduction from its exact
-//! invariants (see docs/modal.md) and its export to MBDyn's modal `.fem` or
-//! SID (see docs/export.md).
+//! A body's modal reduction from its exact invariants (see docs/modal.md),
+//! and the runtime's modal body made from it.
 //!
-//! Both start from [`BodySpec::exact_invariants`] evaluated at the parameters
+//! Reductions start from [`BodySpec::exact_invariants`] evaluated at the parameters
 //! and rounded once per entry ([`modal::Invariants::from_exact`]), not from
 //! the generated element kernels that `ffr invariants` runs; the two agree to
 //! round-off (tests/modes_export.rs compares them).
 
-use crate::cli::{check_invariants, invariants_json, BodyArgs, ParamArgs};
 use crate::codegen::body::ExactInvariants;
-use crate::codegen::export::{mbdyn_fem, sid, ExportBody};
 use crate::codegen::limits::check_params;
 use crate::codegen::modal::{self, reduce, rigid_body_modes, ModalBasis, ModeKind, Reduction};
 use crate::codegen::poly::{to_f64, Param, Poly, Sym};
 use crate::codegen::{BodySpec, Shape};
-use crate::compiled::BeamSpec;
-use crate::output;
+use crate::invariants::check_invariants;
+use crate::kernels::BeamSpec;
 use crate::runtime::modal::{ModalBody, ModalData, ModalPoly};
 use crate::runtime::nalgebra::DMatrix;
 use crate::runtime::spec::Stiffening;
 use crate::runtime::spec::{Formalism, Params, Reference};
 use crate::runtime::Body;
-use serde_json::{json, Value};
 use std::collections::BTreeSet;
 use std::error::Error;
-use std::path::Path;
 
 /// A body ready for reduction: its description, its invariants at the
 /// parameters, and how many elastic modes it has.
@@ -69,7 +64,7 @@ fn params_used(e: &ExactInvariants) -> Vec<Param> {
 
 /// The runtime's `Invariants` (what `ffr invariants` checks and prints) with
 /// the same numbers.
-fn to_runtime(inv: &modal::Invariants) -> crate::runtime::Invariants {
+pub fn to_runtime(inv: &modal::Invariants) -> crate::runtime::Invariants {
     let mut r = crate::runtime::Invariants::zeros(inv.dim, inv.nf());
     r.mass = inv.mass;
     r.s_t0 = inv.s_t0;
@@ -83,28 +78,9 @@ fn to_runtime(inv: &modal::Invariants) -> crate::runtime::Invariants {
 }
 
 impl ReducibleBody {
-    /// The body the shared `--shape/--elements/--reference/--formalism` and
-    /// parameter arguments describe, checked like `ffr invariants` checks
-    /// its body (parameters valid and used ones positive, every invariant
-    /// finite, `m_ff`'s diagonal positive in the consistent formalism).
-    pub fn new(body: &BodyArgs, params: &ParamArgs) -> Result<Self, Box<dyn Error>> {
-        if body.tape {
-            return Err(
-                "--tape does not apply here: modes and export use the exact invariants, not the element kernels"
-                    .into(),
-            );
-        }
-        Self::from_parts(
-            &body.shape,
-            body.elements as usize,
-            body.reference.parse::<Reference>()?,
-            body.formalism.parse::<Formalism>()?,
-            params.values(),
-        )
-    }
-
     /// The body of `elements` `shape` elements (a built-in name or a shape
-    /// file's path) at parameters `p`, checked as [`ReducibleBody::new`] says.
+    /// file's path) at parameters `p`, checked: parameters valid and the used ones positive, every invariant
+    /// finite, `m_ff`'s diagonal positive in the consistent formalism.
     pub fn from_parts(
         shape: &str,
         elements: usize,
@@ -279,7 +255,7 @@ impl ReducibleBody {
 
 /// What the basis is: `modal truncation` or `Craig-Bampton`, `+ static
 /// modes` when [`modal::augment`] added some.
-fn reduction_name(basis: &ModalBasis) -> &'static str {
+pub fn reduction_name(basis: &ModalBasis) -> &'static str {
     let cb = basis
         .kinds
         .iter()
@@ -427,85 +403,8 @@ pub fn modal_body(beam: &BeamSpec, settings: &ModalSettings) -> Result<ModalBody
     r.runtime_body(settings, beam.stiffening, Box::new(beam.body()?))
 }
 
-/// The reduction as the JSON object of `ffr modes --json`: `reduction`,
-/// `omega` (rad/s) and `hz` of the normal modes, `labels` of every mode
-/// (normal modes first, then Craig–Bampton's constraint modes
-/// `constraint_<dof>`), `dofs`, `phi` (n_f rows of k), `modal_mass`,
-/// `modal_stiffness` (k × k) and `invariants`, the projected invariants keyed
-/// like `ffr invariants --json` (with `dofs` the mode labels).
-pub fn modes_json(body: &ReducibleBody, basis: &ModalBasis) -> Value {
-    let rows = |m: &crate::runtime::nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
-        (0..m.nrows())
-            .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
-            .collect()
-    };
-    let projected = body.invariants.project(&basis.phi);
-    json!({
-        "body": body.description(),
-        "reduction": reduction_name(basis),
-        "omega": basis.frequencies,
-        "hz": basis.frequencies.iter().map(|w| w / std::f64::consts::TAU).collect::<Vec<_>>(),
-        "labels": basis.labels,
-        "dofs": body.dofs,
-        "phi": rows(&basis.phi),
-        "modal_mass": rows(&basis.modal_mass),
-        "modal_stiffness": rows(&basis.modal_stiffness),
-        "invariants": invariants_json(&to_runtime(&projected), &basis.labels),
-    })
-}
-
-/// `ffr modes`: print the frequencies (or, with `json`, the whole reduction).
-pub fn modes(
-    body: &BodyArgs,
-    params: &ParamArgs,
-    count: Option<usize>,
-    boundary: &[usize],
-    json: bool,
-) -> Result<(), Box<dyn Error>> {
-    let b = ReducibleBody::new(body, params)?;
-    let basis = b.reduce(count, boundary, "--count")?;
-    if json {
-        crate::outln!("{}", serde_json::to_string(&modes_json(&b, &basis))?)?;
-        return Ok(());
-    }
-    crate::outln!("{}", b.description())?;
-    if boundary.is_empty() {
-        crate::outln!(
-            "modal truncation: the {} lowest modes of K_ff φ = ω² m_ff φ, mass-normalized{}",
-            basis.len(),
-            if b.spec.reference == Reference::Free {
-                " (rigid-body motions removed)"
-            } else {
-                ""
-            }
-        )?;
-    } else {
-        crate::outln!(
-            "Craig-Bampton: {} fixed-interface normal modes (boundary nodes fixed), mass-normalized, and {} static constraint modes",
-            basis.frequencies.len(),
-            basis.len() - basis.frequencies.len()
-        )?;
-    }
-    if !basis.frequencies.is_empty() {
-        crate::outln!("{:>5} {:>24} {:>24}", "mode", "omega (rad/s)", "f (Hz)")?;
-    }
-    for (j, w) in basis.frequencies.iter().enumerate() {
-        crate::outln!(
-            "{:>5} {:>24} {:>24}",
-            j + 1,
-            output::number(*w),
-            output::number(w / std::f64::consts::TAU)
-        )?;
-    }
-    let constraint = &basis.labels[basis.frequencies.len()..];
-    if !constraint.is_empty() {
-        crate::outln!("constraint modes: {}", constraint.join(" "))?;
-    }
-    Ok(())
-}
-
 /// `quantity` is `v`: an error unless `v` is finite.
-fn finite(quantity: impl Fn() -> String, v: f64) -> Result<(), String> {
+pub fn finite(quantity: impl Fn() -> String, v: f64) -> Result<(), String> {
     if v.is_finite() {
         Ok(())
     } else {
@@ -514,66 +413,4 @@ fn finite(quantity: impl Fn() -> String, v: f64) -> Result<(), String> {
             quantity()
         ))
     }
-}
-
-/// Every number an export writes finite (the basis and the projected
-/// invariants are checked by [`ReducibleBody::reduce`]): the nodes'
-/// positions, mode shapes, lumped masses and inertias.
-fn check_export(e: &ExportBody) -> Result<(), String> {
-    for n in &e.nodes {
-        let node = n.node;
-        for (c, v) in n.position.iter().enumerate() {
-            finite(|| format!("node {node} position[{c}]"), *v)?;
-        }
-        for (what, m) in [("translation", &n.translation), ("rotation", &n.rotation)] {
-            for (i, v) in m.iter().enumerate() {
-                finite(
-                    || format!("node {node} {what}[{}] of mode {}", i % 3, i / 3 + 1),
-                    *v,
-                )?;
-            }
-        }
-        finite(|| format!("node {node} mass"), n.mass)?;
-        for (c, v) in n.inertia.iter().enumerate() {
-            finite(|| format!("node {node} inertia[{c}]"), *v)?;
-        }
-    }
-    for (j, k) in e.kinds.iter().enumerate() {
-        if let ModeKind::Normal { omega } = k {
-            finite(|| format!("omega of mode {}", j + 1), *omega)?;
-        }
-    }
-    check_invariants(&to_runtime(&e.invariants), &e.labels, Formalism::Lumped)
-        .map_err(|m| format!("invariants.{m}"))
-}
-
-/// `ffr export`: write the body reduced as [`ReducibleBody::reduce`] says in
-/// `format` (`mbdyn-fem` or `sid`) to `out`, atomically.
-pub fn export(
-    format: &str,
-    body: &BodyArgs,
-    params: &ParamArgs,
-    count: Option<usize>,
-    boundary: &[usize],
-    out: &Path,
-) -> Result<(), Box<dyn Error>> {
-    output::check_outputs(&[("--out", out)])?;
-    let b = ReducibleBody::new(body, params)?;
-    let basis = b.reduce(count, boundary, "--modes")?;
-    let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
-    check_export(&e)?;
-    let text = match format {
-        "mbdyn-fem" => mbdyn_fem(&e),
-        "sid" => sid(&e),
-        other => return Err(format!("unknown --format `{other}` (mbdyn-fem, sid)").into()),
-    };
-    output::write_atomic(out, text.as_bytes())?;
-    crate::outln!("{}", b.description())?;
-    crate::outln!(
-        "wrote {} ({format}, {} modes, {})",
-        out.display(),
-        basis.len(),
-        reduction_name(&basis)
-    )?;
-    Ok(())
 }

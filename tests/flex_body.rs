@@ -2,7 +2,7 @@
 //! needs and the ones it leaves alone, generic structs, and agreement with
 //! the generator run at test time (the same model taped, bit for bit).
 
-use ffr::compiled::BeamSpec;
+use ffr::kernels::BeamSpec;
 use ffr::runtime::spec::{Formalism, Params, Reference, Stiffening};
 use ffr::runtime::{sample_bits, Body, CompiledBody, KernelBody};
 

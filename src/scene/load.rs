@@ -9,7 +9,7 @@ use crate::codegen::scene::{
     RawScene, RawTarget,
 };
 use crate::codegen::Location;
-use crate::compiled::{BeamSpec, Kernels};
+use crate::kernels::{BeamSpec, Kernels};
 use crate::runtime::nalgebra::{Matrix3, Unit, UnitQuaternion, Vector2, Vector3};
 use crate::runtime::spec::{Formalism, Param, Params, Reference};
 use crate::runtime::{
@@ -141,8 +141,9 @@ impl KernelProvider for GeneralKernels {
         spec: &FlexSpec,
     ) -> Result<(Box<dyn ElementKernels>, &'static str), Box<dyn std::error::Error>> {
         let m = &spec.model;
+        #[cfg(feature = "builtin-kernels")]
         if let Some(k) =
-            crate::compiled::builtin(&spec.beam.shape, 3, true, m.formalism, m.stiffening)
+            crate::kernels::builtin(&spec.beam.shape, 3, true, m.formalism, m.stiffening)
         {
             return Ok((Box::new(Kernels::Compiled(k)), "compiled, general"));
         }
@@ -166,6 +167,7 @@ impl KernelProvider for DefaultKernels {
         spec: &FlexSpec,
     ) -> Result<(Box<dyn ElementKernels>, &'static str), Box<dyn std::error::Error>> {
         let k: Kernels = spec.beam.kernels()?;
+        #[cfg(feature = "builtin-kernels")]
         if let Kernels::Compiled(_) = k {
             let path = k.path();
             return Ok((Box::new(k), path));
@@ -780,7 +782,7 @@ fn build(
                 stiffening,
                 scene_dim: Some(dim),
                 params,
-                frame: crate::compiled::FrameModel::from_flags(
+                frame: crate::kernels::FrameModel::from_flags(
                     model.free_frame,
                     model.zero_frame_acceleration,
                 ),

@@ -1,0 +1,172 @@
+//! `ffr modes` and `ffr export`: the reductions of [`ffr::modal`] printed
+//! (as text or the JSON of `--json`) and written in MBDyn's modal `.fem` or
+//! SID (see docs/export.md).
+
+use crate::cli::{invariants_json, BodyArgs, ParamArgs};
+use crate::output;
+use ffr::codegen::export::{mbdyn_fem, sid, ExportBody};
+use ffr::codegen::modal::{ModalBasis, ModeKind};
+use ffr::invariants::check_invariants;
+use ffr::modal::{finite, reduction_name, to_runtime, ReducibleBody};
+use ffr::runtime::spec::{Formalism, Reference};
+use serde_json::{json, Value};
+use std::error::Error;
+use std::path::Path;
+
+/// The body the shared `--shape/--elements/--reference/--formalism` and
+/// parameter arguments describe, checked as [`ReducibleBody::from_parts`]
+/// checks it.
+pub fn reducible(body: &BodyArgs, params: &ParamArgs) -> Result<ReducibleBody, Box<dyn Error>> {
+    if body.tape {
+        return Err(
+            "--tape does not apply here: modes and export use the exact invariants, not the element kernels"
+                .into(),
+        );
+    }
+    Ok(ReducibleBody::from_parts(
+        &body.shape,
+        body.elements as usize,
+        body.reference.parse::<Reference>()?,
+        body.formalism.parse::<Formalism>()?,
+        params.values(),
+    )?)
+}
+
+/// The reduction as the JSON object of `ffr modes --json`: `reduction`,
+/// `omega` (rad/s) and `hz` of the normal modes, `labels` of every mode
+/// (normal modes first, then Craig–Bampton's constraint modes
+/// `constraint_<dof>`), `dofs`, `phi` (n_f rows of k), `modal_mass`,
+/// `modal_stiffness` (k × k) and `invariants`, the projected invariants keyed
+/// like `ffr invariants --json` (with `dofs` the mode labels).
+pub fn modes_json(body: &ReducibleBody, basis: &ModalBasis) -> Value {
+    let rows = |m: &ffr::runtime::nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
+        (0..m.nrows())
+            .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
+            .collect()
+    };
+    let projected = body.invariants.project(&basis.phi);
+    json!({
+        "body": body.description(),
+        "reduction": reduction_name(basis),
+        "omega": basis.frequencies,
+        "hz": basis.frequencies.iter().map(|w| w / std::f64::consts::TAU).collect::<Vec<_>>(),
+        "labels": basis.labels,
+        "dofs": body.dofs,
+        "phi": rows(&basis.phi),
+        "modal_mass": rows(&basis.modal_mass),
+        "modal_stiffness": rows(&basis.modal_stiffness),
+        "invariants": invariants_json(&to_runtime(&projected), &basis.labels),
+    })
+}
+
+/// `ffr modes`: print the frequencies (or, with `json`, the whole reduction).
+pub fn modes(
+    body: &BodyArgs,
+    params: &ParamArgs,
+    count: Option<usize>,
+    boundary: &[usize],
+    json: bool,
+) -> Result<(), Box<dyn Error>> {
+    let b = reducible(body, params)?;
+    let basis = b.reduce(count, boundary, "--count")?;
+    if json {
+        crate::outln!("{}", serde_json::to_string(&modes_json(&b, &basis))?)?;
+        return Ok(());
+    }
+    crate::outln!("{}", b.description())?;
+    if boundary.is_empty() {
+        crate::outln!(
+            "modal truncation: the {} lowest modes of K_ff φ = ω² m_ff φ, mass-normalized{}",
+            basis.len(),
+            if b.spec.reference == Reference::Free {
+                " (rigid-body motions removed)"
+            } else {
+                ""
+            }
+        )?;
+    } else {
+        crate::outln!(
+            "Craig-Bampton: {} fixed-interface normal modes (boundary nodes fixed), mass-normalized, and {} static constraint modes",
+            basis.frequencies.len(),
+            basis.len() - basis.frequencies.len()
+        )?;
+    }
+    if !basis.frequencies.is_empty() {
+        crate::outln!("{:>5} {:>24} {:>24}", "mode", "omega (rad/s)", "f (Hz)")?;
+    }
+    for (j, w) in basis.frequencies.iter().enumerate() {
+        crate::outln!(
+            "{:>5} {:>24} {:>24}",
+            j + 1,
+            output::number(*w),
+            output::number(w / std::f64::consts::TAU)
+        )?;
+    }
+    let constraint = &basis.labels[basis.frequencies.len()..];
+    if !constraint.is_empty() {
+        crate::outln!("constraint modes: {}", constraint.join(" "))?;
+    }
+    Ok(())
+}
+
+/// Every number an export writes finite (the basis and the projected
+/// invariants are checked by [`ReducibleBody::reduce`]): the nodes'
+/// positions, mode shapes, lumped masses and inertias.
+fn check_export(e: &ExportBody) -> Result<(), String> {
+    for n in &e.nodes {
+        let node = n.node;
+        for (c, v) in n.position.iter().enumerate() {
+            finite(|| format!("node {node} position[{c}]"), *v)?;
+        }
+        for (what, m) in [("translation", &n.translation), ("rotation", &n.rotation)] {
+            for (i, v) in m.iter().enumerate() {
+                finite(
+                    || format!("node {node} {what}[{}] of mode {}", i % 3, i / 3 + 1),
+                    *v,
+                )?;
+            }
+        }
+        finite(|| format!("node {node} mass"), n.mass)?;
+        for (c, v) in n.inertia.iter().enumerate() {
+            finite(|| format!("node {node} inertia[{c}]"), *v)?;
+        }
+    }
+    for (j, k) in e.kinds.iter().enumerate() {
+        if let ModeKind::Normal { omega } = k {
+            finite(|| format!("omega of mode {}", j + 1), *omega)?;
+        }
+    }
+    check_invariants(&to_runtime(&e.invariants), &e.labels, Formalism::Lumped)
+        .map_err(|m| format!("invariants.{m}"))
+}
+
+/// `ffr export`: write the body reduced as [`ReducibleBody::reduce`] says in
+/// `format` (`mbdyn-fem` or `sid`) to `out`, atomically.
+pub fn export(
+    format: &str,
+    body: &BodyArgs,
+    params: &ParamArgs,
+    count: Option<usize>,
+    boundary: &[usize],
+    out: &Path,
+) -> Result<(), Box<dyn Error>> {
+    output::check_outputs(&[("--out", out)])?;
+    let b = reducible(body, params)?;
+    let basis = b.reduce(count, boundary, "--modes")?;
+    let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
+    check_export(&e)?;
+    let text = match format {
+        "mbdyn-fem" => mbdyn_fem(&e),
+        "sid" => sid(&e),
+        other => return Err(format!("unknown --format `{other}` (mbdyn-fem, sid)").into()),
+    };
+    output::write_atomic(out, text.as_bytes())?;
+    crate::outln!("{}", b.description())?;
+    crate::outln!(
+        "wrote {} ({format}, {} modes, {})",
+        out.display(),
+        basis.len(),
+        reduction_name(&basis)
+    )?;
+    Ok(())
+}

@@ -1,0 +1,104 @@
+//! Reference solutions committed with the repository (`bench/reference/`,
+//! computed with an established engine; how: `bench/reference/README.md`)
+//! and the error of a run against them.
+
+use crate::benchmarks::spin_up::interpolate;
+
+/// A reference history: times and columns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reference {
+    /// Where it comes from (one line).
+    pub source: &'static str,
+    /// Column names after `t`.
+    pub columns: Vec<String>,
+    /// Times (s).
+    pub t: Vec<f64>,
+    /// One vector per column.
+    pub values: Vec<Vec<f64>>,
+}
+
+const OMEGA4: &str = include_str!("../../bench/reference/spin_up_omega4.csv");
+const OMEGA10: &str = include_str!("../../bench/reference/spin_up_omega10.csv");
+const PRECONE4: &str = include_str!("../../bench/reference/spin_up_precone_omega4.csv");
+
+fn parse(text: &str, source: &'static str) -> Reference {
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .expect("a header line")
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let mut t = Vec::new();
+    let mut values = vec![Vec::new(); header.len() - 1];
+    for line in lines.filter(|l| !l.is_empty()) {
+        let mut it = line.split(',').map(|x| x.parse::<f64>().expect("a number"));
+        t.push(it.next().expect("t"));
+        for v in values.iter_mut() {
+            v.push(it.next().expect("a value"));
+        }
+    }
+    Reference {
+        source,
+        columns: header[1..].to_vec(),
+        t,
+        values,
+    }
+}
+
+/// The geometrically exact spin-up reference at `omega` (4 or 10 rad/s).
+pub fn spin_up(omega: f64) -> Option<Reference> {
+    let src = "Exudyn 1.13.6 ANCF cable 2D, 64 elements, dt 1e-4 (bench/reference/README.md)";
+    if omega == 4.0 {
+        Some(parse(OMEGA4, src))
+    } else if omega == 10.0 {
+        Some(parse(OMEGA10, src))
+    } else {
+        None
+    }
+}
+
+/// The spatial precone reference (ω_s = 4 rad/s, β = 0.05 rad).
+pub fn precone() -> Reference {
+    parse(
+        PRECONE4,
+        "Exudyn 1.13.6 ANCF cable 3D, 32 elements, dt 1e-4 (bench/reference/README.md)",
+    )
+}
+
+impl Reference {
+    /// The column named `name`.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.columns
+            .iter()
+            .position(|c| c == name)
+            .map(|i| self.values[i].as_slice())
+    }
+
+    /// `max_k |y(t_k) − y_ref(t_k)| / max_k |y_ref(t_k)|` over the run's
+    /// sample times `t_k ≤ t_end` (the reference interpolated linearly), and
+    /// the largest absolute difference.
+    pub fn error(&self, column: &str, t: &[f64], y: &[f64], t_end: f64) -> Option<(f64, f64)> {
+        let r = self.column(column)?;
+        let (mut diff, mut scale) = (0.0f64, 0.0f64);
+        for (&tk, &yk) in t.iter().zip(y) {
+            if tk > t_end + 1e-9 {
+                break;
+            }
+            let yr = interpolate(&self.t, r, tk)?;
+            diff = diff.max((yk - yr).abs());
+            scale = scale.max(yr.abs());
+        }
+        (scale > 0.0).then(|| (diff / scale, diff))
+    }
+
+    /// The most negative value of a column and its time.
+    pub fn min(&self, column: &str) -> Option<(f64, f64)> {
+        let r = self.column(column)?;
+        self.t
+            .iter()
+            .zip(r)
+            .map(|(a, b)| (*a, *b))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+}

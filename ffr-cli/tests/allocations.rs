@@ -1,0 +1,97 @@
+//! No heap allocation inside a time step after set-up: a counting global
+//! allocator records the allocations between consecutive observer calls
+//! (the observer itself does not allocate).
+
+mod common;
+use common::mechanism;
+use ffr::runtime::{Body, GeneralizedAlpha, Integrator, Rk4Baumgarte, System};
+use ffr_cli::benchmarks::spin_up::{self, SpinUp};
+use std::alloc::{GlobalAlloc, Layout, System as Sys};
+use std::cell::Cell;
+use std::ops::ControlFlow;
+
+struct Counting;
+
+thread_local! {
+    static COUNT: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        COUNT.with(|c| c.set(c.get() + 1));
+        Sys.alloc(l)
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        Sys.dealloc(p, l)
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        COUNT.with(|c| c.set(c.get() + 1));
+        Sys.realloc(p, l, n)
+    }
+}
+
+#[global_allocator]
+static A: Counting = Counting;
+
+fn count() -> usize {
+    COUNT.with(Cell::get)
+}
+
+/// Allocations per step after the first `warm` steps, for `steps` steps.
+fn allocations<B: Body>(
+    sys: &System<B>,
+    dt: f64,
+    steps: usize,
+    integrator: Integrator,
+) -> Vec<usize> {
+    let mut last = 0;
+    let mut per_step = Vec::with_capacity(steps + 1);
+    sys.simulate(dt * steps as f64, dt, &integrator, |v| {
+        let now = count();
+        if v.step > 0 {
+            per_step.push(now - last);
+        }
+        last = count();
+        ControlFlow::Continue(())
+    })
+    .unwrap();
+    per_step
+}
+
+#[test]
+fn spin_up_steps_allocate_nothing() {
+    for spatial in [false, true] {
+        let mut cfg = SpinUp::new(4.0);
+        cfg.spatial = spatial;
+        let (sys, _) = spin_up::system(&cfg).unwrap();
+        for integrator in [
+            Integrator::GeneralizedAlpha(GeneralizedAlpha::default()),
+            Integrator::Rk4(Rk4Baumgarte::default()),
+        ] {
+            let dt = if matches!(integrator, Integrator::Rk4(_)) {
+                1e-4
+            } else {
+                0.01
+            };
+            let a = allocations(&sys, dt, 300, integrator);
+            assert!(
+                a.iter().all(|&n| n == 0),
+                "spatial={spatial} {integrator:?}: {a:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn mechanism_steps_allocate_nothing() {
+    for dim in [2, 3] {
+        let sys = mechanism(dim);
+        let a = allocations(
+            &sys,
+            1e-3,
+            200,
+            Integrator::GeneralizedAlpha(GeneralizedAlpha::default()),
+        );
+        assert!(a.iter().all(|&n| n == 0), "dim {dim}: {a:?}");
+    }
+}

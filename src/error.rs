@@ -1,0 +1,42 @@
+//! The library's error: one type a user can match on, with the messages of
+//! the part that failed (the generator, the runtime, a scene file, a file).
+
+/// Everything the `ffr` library can refuse or fail at.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// The generator refused a shape, body or parameter set.
+    #[cfg(feature = "scene-files")]
+    #[error(transparent)]
+    Codegen(#[from] crate::codegen::Error),
+    /// The runtime refused a body or system, or a run failed (no
+    /// convergence, divergence, a singular matrix).
+    #[error(transparent)]
+    Runtime(#[from] crate::runtime::Error),
+    /// A scene file does not load: where and what.
+    #[cfg(feature = "scene-files")]
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
+    /// A file could not be read or written.
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+    /// A body or reduction the library refuses; the message says why and
+    /// what is allowed.
+    #[error("{0}")]
+    Invalid(String),
+}
+
+impl From<String> for Error {
+    fn from(message: String) -> Self {
+        Error::Invalid(message)
+    }
+}
+
+impl From<&str> for Error {
+    fn from(message: &str) -> Self {
+        Error::Invalid(message.to_string())
+    }
+}
+
+/// `Result` with the library's [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;

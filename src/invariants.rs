@@ -1,0 +1,72 @@
+//! Checks on a body's invariants evaluated at its parameters.
+
+use crate::runtime::spec::Formalism;
+use crate::runtime::Invariants;
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// Every number finite, and (consistent formalism) every diagonal entry of
+/// `m_ff` positive; the error names the quantity as `invariants --json` keys it.
+pub fn check_invariants(
+    inv: &Invariants,
+    dofs: &[String],
+    formalism: Formalism,
+) -> Result<(), String> {
+    let dof = |a: usize| dofs.get(a).map_or(String::new(), |l| format!(" ({l})"));
+    let bad = |q: String, v: f64| {
+        format!("{q} is {v} at these parameters, not a finite number: the parameters or the shape's coefficients are too large or too small for f64")
+    };
+    if !inv.mass.is_finite() {
+        return Err(bad("mass".into(), inv.mass));
+    }
+    let d = inv.dim;
+    for k in 0..d {
+        if !inv.s_t0[k].is_finite() {
+            return Err(bad(format!("St0[{k}]"), inv.s_t0[k]));
+        }
+        for a in 0..inv.nf() {
+            if !inv.s_bar[(k, a)].is_finite() {
+                return Err(bad(format!("Sbar[{k}][{a}]{}", dof(a)), inv.s_bar[(k, a)]));
+            }
+        }
+        for l in 0..d {
+            let key = format!("{}{}", AXES[k], AXES[l]);
+            if !inv.theta[(k, l)].is_finite() {
+                return Err(bad(format!("theta.{key}"), inv.theta[(k, l)]));
+            }
+            if let Some((a, v)) = inv.i_kl[k][l]
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !v.is_finite())
+            {
+                return Err(bad(format!("Ikl.{key}[{a}]{}", dof(a)), *v));
+            }
+            for (i, v) in inv.s_kl[k][l].iter().enumerate() {
+                if !v.is_finite() {
+                    let n = inv.nf();
+                    return Err(bad(format!("Skl.{key}[{}][{}]", i % n, i / n), *v));
+                }
+            }
+        }
+    }
+    for (name, m) in [("mff", &inv.m_ff), ("Kff", &inv.k_ff)] {
+        for (i, v) in m.iter().enumerate() {
+            if !v.is_finite() {
+                let n = inv.nf();
+                return Err(bad(
+                    format!("{name}[{}][{}]{}", i % n, i / n, dof(i % n)),
+                    *v,
+                ));
+            }
+        }
+    }
+    if formalism == Formalism::Consistent {
+        for a in 0..inv.nf() {
+            let v = inv.m_ff[(a, a)];
+            if !(v > 0.0) {
+                return Err(format!("mff[{a}][{a}]{} is {v} at these parameters: a diagonal entry of the mass matrix must be positive (the shape's coefficients are too small for f64, or the coordinate carries no mass)", dof(a)));
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,166 @@
+//! A beam body's element kernels: the built-in shapes' compiled kernels
+//! (crate `ffr-kernels`, feature `builtin-kernels`) or tapes of the
+//! generator's programs (a shape chosen at run time), and the choice
+//! between them.
+
+use crate::runtime::spec::{Formalism, Params, Reference, Stiffening};
+use crate::runtime::tape::TapeKernels;
+use crate::runtime::{ElementKernels, KernelBody};
+
+#[cfg(feature = "builtin-kernels")]
+pub use ffr_kernels::{builtin, BuiltinKernels};
+
+/// Kernels of a beam body: compiled (built-in shape) or on tapes (a shape
+/// chosen at run time).
+#[derive(Debug)]
+pub enum Kernels {
+    /// Compiled into the binary (feature `builtin-kernels`).
+    #[cfg(feature = "builtin-kernels")]
+    Compiled(BuiltinKernels),
+    /// Generated at run time and run on tapes (slower; same numbers).
+    Tape(Box<TapeKernels>),
+}
+
+impl Kernels {
+    /// How the kernels run and what they are specialized for: `compiled`,
+    /// `compiled, prescribed frame at rest`, `tape`, ….
+    pub fn path(&self) -> &'static str {
+        let info = self.info();
+        match (self, info.free_frame, info.zero_frame_acceleration) {
+            #[cfg(feature = "builtin-kernels")]
+            (Kernels::Compiled(_), true, _) => "compiled",
+            #[cfg(feature = "builtin-kernels")]
+            (Kernels::Compiled(_), false, true) => "compiled, prescribed frame at rest",
+            #[cfg(feature = "builtin-kernels")]
+            (Kernels::Compiled(_), false, false) => "compiled, prescribed frame",
+            (Kernels::Tape(_), true, _) => "tape",
+            (Kernels::Tape(_), false, true) => "tape, prescribed frame at rest",
+            (Kernels::Tape(_), false, false) => "tape, prescribed frame",
+        }
+    }
+}
+
+macro_rules! either {
+    ($self:ident, $k:ident => $e:expr) => {
+        match $self {
+            #[cfg(feature = "builtin-kernels")]
+            Kernels::Compiled($k) => $e,
+            Kernels::Tape($k) => $e,
+        }
+    };
+}
+
+crate::runtime::forward_element_kernels!([] Kernels, either);
+
+/// How a beam body is made.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BeamSpec {
+    /// A built-in shape (`beam2`, `beam3`) or a path to a shape file.
+    pub shape: String,
+    /// Number of elements.
+    pub elements: usize,
+    /// Reference condition.
+    pub reference: Reference,
+    /// Inertia formalism.
+    pub formalism: Formalism,
+    /// Stiffening model.
+    pub stiffening: Stiffening,
+    /// Scene dimension (`None`: the shape's).
+    pub scene_dim: Option<usize>,
+    /// Parameter values.
+    pub params: Params,
+    /// The frame the body moves with: free (general kernels) or prescribed
+    /// with its origin at rest and no gravity (kernels without reference
+    /// rows and `ā` terms; the system refuses them elsewhere).
+    pub frame: FrameModel,
+    /// Run on tapes even if compiled kernels exist (comparisons).
+    pub force_tape: bool,
+}
+
+/// What the kernels of a body assume about its frame's motion.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FrameModel {
+    /// Any frame motion (reference rows, `ā` terms): the general body.
+    #[default]
+    Free,
+    /// Frame motion prescribed (no reference rows); built-in shapes run the
+    /// general compiled kernels, shape files tapes without reference rows.
+    Prescribed,
+    /// Frame motion prescribed, origin at rest, no gravity (`ā ≡ 0`).
+    PrescribedAtRest,
+}
+
+impl FrameModel {
+    /// `(free_frame, zero_frame_acceleration)` of the kernel model.
+    pub fn flags(self) -> (bool, bool) {
+        match self {
+            FrameModel::Free => (true, false),
+            FrameModel::Prescribed => (false, false),
+            FrameModel::PrescribedAtRest => (false, true),
+        }
+    }
+
+    /// From the kernel model's flags.
+    pub fn from_flags(free_frame: bool, zero_frame_acceleration: bool) -> Self {
+        match (free_frame, zero_frame_acceleration) {
+            (false, true) => FrameModel::PrescribedAtRest,
+            (false, false) => FrameModel::Prescribed,
+            (true, _) => FrameModel::Free,
+        }
+    }
+}
+
+impl BeamSpec {
+    /// `elements` clamped `shape` elements, consistent, no stiffening.
+    pub fn new(shape: &str, elements: usize, params: Params) -> Self {
+        Self {
+            shape: shape.to_string(),
+            elements,
+            reference: Reference::Clamped,
+            formalism: Formalism::Consistent,
+            stiffening: Stiffening::Off,
+            scene_dim: None,
+            params,
+            frame: FrameModel::Free,
+            force_tape: false,
+        }
+    }
+
+    /// The kernels: compiled for a built-in shape, else generated and taped.
+    pub fn kernels(&self) -> Result<Kernels, crate::codegen::Error> {
+        let shape = crate::codegen::Shape::resolve(&self.shape, None)?;
+        let scene = self.scene_dim.unwrap_or(shape.dimension);
+        let (free_frame, zero_frame_acceleration) = self.frame.flags();
+        #[cfg(feature = "builtin-kernels")]
+        if !self.force_tape && shape.path.is_none() {
+            if let Some(k) = builtin(
+                &self.shape,
+                scene,
+                self.frame != FrameModel::PrescribedAtRest,
+                self.formalism,
+                self.stiffening,
+            ) {
+                return Ok(Kernels::Compiled(k));
+            }
+        }
+        let model = crate::codegen::KernelModel {
+            shape,
+            formalism: self.formalism,
+            stiffening: self.stiffening,
+            scene_dim: scene,
+            free_frame,
+            zero_frame_acceleration,
+        };
+        Ok(Kernels::Tape(Box::new(TapeKernels::new(&model)?)))
+    }
+
+    /// The body.
+    pub fn body(&self) -> Result<KernelBody<Kernels>, Box<dyn std::error::Error>> {
+        Ok(KernelBody::new(
+            self.kernels()?,
+            self.params,
+            self.elements,
+            self.reference,
+        )?)
+    }
+}
