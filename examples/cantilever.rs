@@ -54,7 +54,7 @@ fn main() -> Result<()> {
         "{} steps: tip deflection {:.6e} m, static theory {:.6e} m, difference {:.2e}",
         run.steps, -tip_y, w, error
     );
-    if error > 1e-3 {
+    if error > 1e-6 {
         return Err(Error::Invalid(format!(
             "tip deflection off the static value by {error:.2e}"
         )));
