@@ -6,7 +6,7 @@
 //! g)`, `α = ω̄̇`, `ω = ω̄` (body axes) has the generalized forces
 //! `f_r` (3), `f_θ` (3) and `f_f` (`n_f`) of [`crate::kernel`]; the system
 //! forms `r_R = A f_r`, `r_θ = Ḡᵀ f_θ`, `r_f = f_f`. Flexible bodies
-//! assemble them from element kernels ([`crate::nodal::KernelBody`]);
+//! assemble them from element kernels ([`crate::kernel_body::KernelBody`]);
 //! rigid bodies ([`crate::rigid::RigidBody`]) compute them directly.
 
 use crate::error::Result;
