@@ -171,8 +171,8 @@ impl<B: Body> Assembly<'_, B> {
             // ∂[ā, α, ω]/∂R_k and ∂/∂θ_j.
             let mut phi_r = [[0.0; 9]; 3];
             for (k, pr) in phi_r.iter_mut().enumerate().take(d) {
-                for c in 0..3 {
-                    pr[c] = bp * rot.a[(k, c)];
+                for (c, p) in pr[..3].iter_mut().enumerate() {
+                    *p = bp * rot.a[(k, c)];
                 }
             }
             let mut rdd = Vector3::zeros();

@@ -3,7 +3,7 @@
 //! check that a body's elastic coordinates do not repeat a free rigid motion
 //! of its frame (used by [`Assembly::new`]).
 
-use super::Assembly;
+use super::{Assembly, ClassLink};
 use crate::body::{Body, BodyMass};
 
 impl<B: Body> Assembly<'_, B> {
@@ -43,7 +43,7 @@ impl<B: Body> Assembly<'_, B> {
 
     /// Class of each unknown coordinate and multiplier, and the links
     /// between classes (for convergence).
-    pub(crate) fn classes(&self) -> (&[u32], &[u32], &[Option<(u32, f64)>]) {
+    pub(crate) fn classes(&self) -> (&[u32], &[u32], &[ClassLink]) {
         (&self.coord_class, &self.mult_class, &self.class_link)
     }
 }
@@ -126,6 +126,8 @@ pub(super) fn rigid_motion_in_elastic<B: Body>(
     for k in 0..n {
         let own = mass.m_ref_frame[dirs[k].0 * 7];
         let p = s[k * n + k];
+        // `!(p > bound)`, not `p <= bound`: a NaN pivot fails the check too.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
         if !(p > 1e4 * f64::EPSILON * own) {
             return Some(dirs[k].1);
         }

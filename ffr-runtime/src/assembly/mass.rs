@@ -39,8 +39,8 @@ impl<B: Body> Assembly<'_, B> {
             }
             let mut phi_r = [[0.0; 9]; 3];
             for (k, pr) in phi_r.iter_mut().enumerate().take(d) {
-                for c in 0..3 {
-                    pr[c] = rot.a[(k, c)];
+                for (c, p) in pr[..3].iter_mut().enumerate() {
+                    *p = rot.a[(k, c)];
                 }
             }
             let mut phi_th = [[0.0; 9]; 4];

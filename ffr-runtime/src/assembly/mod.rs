@@ -118,8 +118,12 @@ pub struct Assembly<'s, B: Body> {
     /// Per class: the class of the same body whose positions, times the
     /// factor, also set this class's round-off floor (a beam's elastic
     /// translations and rotations, linked by its length `L`).
-    pub(crate) class_link: Vec<Option<(u32, f64)>>,
+    pub(crate) class_link: Vec<ClassLink>,
 }
+
+/// A class's link (see [`Assembly::classes`]): the class whose positions,
+/// times the factor, also set this class's round-off floor.
+pub(crate) type ClassLink = Option<(u32, f64)>;
 
 fn v3(x: &[f64]) -> Vector3<f64> {
     Vector3::new(x[0], x[1], x[2])
