@@ -6,7 +6,7 @@
 //! g)`, `α = ω̄̇`, `ω = ω̄` (body axes) has the generalized forces
 //! `f_r` (3), `f_θ` (3) and `f_f` (`n_f`) of [`crate::kernel`]; the system
 //! forms `r_R = A f_r`, `r_θ = Ḡᵀ f_θ`, `r_f = f_f`. Flexible bodies
-//! assemble them from element kernels ([`crate::nodal::KernelBody`]);
+//! assemble them from element kernels ([`crate::kernel_body::KernelBody`]);
 //! rigid bodies ([`crate::rigid::RigidBody`]) compute them directly.
 
 use crate::error::Result;
@@ -246,6 +246,8 @@ impl BodyMass {
 
     /// [`BodyMass::momenta`] without allocating: the elastic part into `mf`
     /// (length `n_f`), the frame part returned.
+    // Block matrix–vector products written by index, as in the formula.
+    #[allow(clippy::needless_range_loop)]
     pub fn momenta_into(
         &self,
         v: &[f64; 3],
@@ -476,7 +478,7 @@ pub fn sample_bits(body: &dyn Body, amplitude: f64) -> Vec<u64> {
         };
         body.mass(&q, &mut w, &mut mass);
         push(&mass.s_t);
-        push(&mass.m_ff.to_dense().as_slice().to_vec());
+        push(mass.m_ff.to_dense().as_slice());
         push(&mass.m_f_frame);
         push(&mass.m_ref_f);
         push(&mass.m_ref_frame);
@@ -493,7 +495,7 @@ pub fn sample_bits(body: &dyn Body, amplitude: f64) -> Vec<u64> {
             &mut forces,
             &mut tangent,
         );
-        push(&tangent.k_ff.to_dense().as_slice().to_vec());
+        push(tangent.k_ff.to_dense().as_slice());
         push(&tangent.d_f_frame);
         push(&tangent.k_ref_f);
         push(&tangent.d_ref_frame);

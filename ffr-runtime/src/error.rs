@@ -39,7 +39,7 @@ pub enum Error {
         dt: f64,
     },
     /// A generalized-α step failed from both Newton starts and after
-    /// halving it [`StepFailed::halvings`] times.
+    /// halving it `halvings` times.
     #[error("step {step} at t = {t:.6} s failed even when restarted from rest and halved {halvings} times (to dt = {dt_min:e} s; there: {why}): look for a load on a coordinate with almost no inertia, a force that grows without bound, or contradictory constraints, or try a smaller step or lower rho_inf", why = cause.short())]
     StepFailed {
         /// Step index (0-based: the step starting at `t`).

@@ -385,9 +385,9 @@ fn accelerations<B: Body>(
     baumgarte: (f64, f64),
 ) -> Result<()> {
     let (n, m) = (asm.n, asm.m);
-    for c in 0..n {
+    for (c, ac) in a[..n].iter_mut().enumerate() {
         if !asm.is_prescribed(c) {
-            a[c] = 0.0;
+            *ac = 0.0;
         }
     }
     asm.residual(t, q, v, a, &w.lam0, &mut w.r);
@@ -415,9 +415,9 @@ fn accelerations<B: Body>(
             t,
         });
     }
-    for c in 0..n {
+    for (c, ac) in a[..n].iter_mut().enumerate() {
         if !asm.is_prescribed(c) {
-            a[c] = w.x[c];
+            *ac = w.x[c];
         }
     }
     lam.copy_from_slice(&w.x[n..n + m]);
@@ -518,6 +518,7 @@ fn retry_may_help(e: &Error) -> bool {
 /// too the interval is done in two halves (recursively, at most
 /// [`MAX_SPLITS`] times). A step that converges at once is exactly
 /// [`ga_step`]; `stats` counts the restarts and splits.
+#[allow(clippy::too_many_arguments)]
 fn ga_interval<B: Body>(
     asm: &mut Assembly<B>,
     g: &GeneralizedAlpha,

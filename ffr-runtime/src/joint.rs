@@ -270,8 +270,8 @@ impl RowEval {
             }
         }
         let mut qt = 0.0;
-        for i in 0..n {
-            qt += qd[i]
+        for (i, qd_i) in qd.iter().enumerate() {
+            qt += qd_i
                 * (self.v1.dqt[i].dot(&self.v2.val)
                     + self.v1.d[i].dot(&self.v2.dt)
                     + self.v1.dt.dot(&self.v2.d[i])

@@ -3,7 +3,7 @@
 //!
 //! - [`kernel`]: what generated code provides per element ([`ElementKernels`]).
 //! - [`body`]: a body's generalized forces, derivatives and mass blocks
-//!   ([`Body`]); [`nodal`]: bodies assembled from element kernels;
+//!   ([`Body`]); [`kernel_body`]: bodies assembled from element kernels;
 //!   [`rigid`]: rigid bodies; [`modal`]: bodies reduced to modes.
 //! - [`system`]: bodies, prescribed coordinates, joints ([`joint`]) at
 //!   markers ([`marker`]), force elements ([`force`]), drivers ([`driver`]).
@@ -21,11 +21,11 @@ pub mod initial;
 pub mod integrator;
 pub mod joint;
 pub mod kernel;
+pub mod kernel_body;
 pub mod linalg;
 pub mod marker;
 pub mod modal;
 pub mod monitor;
-pub mod nodal;
 pub mod rigid;
 pub mod rotation;
 pub mod system;
@@ -46,11 +46,11 @@ pub use joint::Constraint;
 pub use kernel::{
     CompiledBody, ElementKernels, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut,
 };
+pub use kernel_body::KernelBody;
 pub use marker::{BodyId, Marker};
 pub use modal::{ModalBody, ModalData, ModalPoly};
 pub use monitor::Monitor;
 pub use nalgebra;
-pub use nodal::KernelBody;
 pub use rigid::RigidBody;
 pub use system::{BodyEntry, Pose, Rayleigh, System};
 

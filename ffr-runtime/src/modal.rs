@@ -506,6 +506,8 @@ impl ModalBody {
                 T::c(inv.s_t0[a]) + dot(inv.s_bar.row(a).iter().copied(), &q)
             });
             let mut u = [[zero; 3]; 3];
+            // The symmetric `u` filled by index, both triangles at once.
+            #[allow(clippy::needless_range_loop)]
             for a in 0..3 {
                 for b in a..3 {
                     let lin = inv.i_kl[a][b]

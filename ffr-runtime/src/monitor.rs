@@ -19,7 +19,7 @@
 //! - **restarts**: after 100 steps, fewer than [`Monitor::restart_fraction`]
 //!   of the steps needed their Newton iteration restarted from rest.
 //!
-//! Nothing is allocated after [`Watch::new`].
+//! Nothing is allocated after the run's watch is set up (`Watch::new`).
 
 use crate::assembly::Assembly;
 use crate::body::{Body, PointShape};
@@ -206,6 +206,8 @@ impl Watch {
                     }
                 }
                 let d = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
+                // `!(d <= bound)`: a NaN deformation fails the check too.
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
                 if !(d <= self.settings.deformation * s.length) {
                     return fail(format!(
                         "body `{}` is deformed by {d:.3e} m at x = {x:.4} m, more than {} × its length {:.4} m: the elastic coordinates have left any valid range",
@@ -244,6 +246,8 @@ impl Watch {
                 // Above the bound: a transient (a step load's first steps)
                 // may come back; growth by ten more, or by GROSS, is not.
                 let first = *self.first_excess.get_or_insert(excess);
+                // `!(x <= bound)`: a NaN excess fails the check too.
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
                 if !(excess <= GROWTH * first) || !(excess <= GROSS * scale) {
                     return fail(format!(
                         "the energy grew to {e:.4e} J from {:.4e} J with {:.4e} J of work applied and {:.4e} J dissipated: {excess:.3e} J gained from nowhere and growing ({first:.3e} J when it first passed {} × the energy scale {scale:.3e} J)",

@@ -139,8 +139,8 @@ impl Rotation {
     /// `Ḡᵀ f`.
     pub fn g_t(&self, f: &Vector3<f64>) -> [f64; 4] {
         let mut out = [0.0; 4];
-        for j in 0..self.n {
-            out[j] = self.g[j].dot(f);
+        for (o, g) in out.iter_mut().zip(&self.g).take(self.n) {
+            *o = g.dot(f);
         }
         out
     }

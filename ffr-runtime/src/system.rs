@@ -301,8 +301,8 @@ impl<B: Body> System<B> {
             let rot = Rotation::new(&self.q0[o + d..o + d + nth]);
             let wb = rot.a.transpose() * omega;
             let g = rot.g_t(&wb);
-            for j in 0..4 {
-                self.v0[o + 3 + j] = 0.5 * g[j];
+            for (v, gj) in self.v0[o + 3..o + 7].iter_mut().zip(g) {
+                *v = 0.5 * gj;
             }
         }
         Ok(())

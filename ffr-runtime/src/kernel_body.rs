@@ -345,8 +345,8 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                 },
                 ks,
             );
-            for k in 0..3 {
-                out.s_t[k] += s_t[k];
+            for (d, v) in out.s_t.iter_mut().zip(s_t.iter()) {
+                *d += v;
             }
             for (d, v) in out.m_ref_frame.iter_mut().zip(mrf.iter()) {
                 *d += v;
