@@ -9,6 +9,10 @@ pub enum Error {
     #[cfg(feature = "scene-files")]
     #[error(transparent)]
     Codegen(#[from] crate::codegen::Error),
+    /// A modal reduction failed (an eigenproblem, a basis, an energy).
+    #[cfg(feature = "scene-files")]
+    #[error(transparent)]
+    Modal(#[from] crate::codegen::modal::ModalError),
     /// The runtime refused a body or system, or a run failed (no
     /// convergence, divergence, a singular matrix).
     #[error(transparent)]

@@ -11,10 +11,10 @@ pub fn check_invariants(
     inv: &Invariants,
     dofs: &[String],
     formalism: Formalism,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     let dof = |a: usize| dofs.get(a).map_or(String::new(), |l| format!(" ({l})"));
     let bad = |q: String, v: f64| {
-        format!("{q} is {v} at these parameters, not a finite number: the parameters or the shape's coefficients are too large or too small for f64")
+        crate::Error::Invalid(format!("{q} is {v} at these parameters, not a finite number: the parameters or the shape's coefficients are too large or too small for f64"))
     };
     if !inv.mass.is_finite() {
         return Err(bad("mass".into(), inv.mass));
@@ -64,7 +64,7 @@ pub fn check_invariants(
         for a in 0..inv.nf() {
             let v = inv.m_ff[(a, a)];
             if !(v > 0.0) {
-                return Err(format!("mff[{a}][{a}]{} is {v} at these parameters: a diagonal entry of the mass matrix must be positive (the shape's coefficients are too small for f64, or the coordinate carries no mass)", dof(a)));
+                return Err(format!("mff[{a}][{a}]{} is {v} at these parameters: a diagonal entry of the mass matrix must be positive (the shape's coefficients are too small for f64, or the coordinate carries no mass)", dof(a)).into());
             }
         }
     }

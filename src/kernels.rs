@@ -155,7 +155,7 @@ impl BeamSpec {
     }
 
     /// The body.
-    pub fn body(&self) -> Result<KernelBody<Kernels>, Box<dyn std::error::Error>> {
+    pub fn body(&self) -> crate::Result<KernelBody<Kernels>> {
         Ok(KernelBody::new(
             self.kernels()?,
             self.params,

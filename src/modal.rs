@@ -19,7 +19,6 @@ use crate::runtime::spec::Stiffening;
 use crate::runtime::spec::{Formalism, Params, Reference};
 use crate::runtime::Body;
 use std::collections::BTreeSet;
-use std::error::Error;
 
 /// A body ready for reduction: its description, its invariants at the
 /// parameters, and how many elastic modes it has.
@@ -87,7 +86,7 @@ impl ReducibleBody {
         reference: Reference,
         formalism: Formalism,
         p: Params,
-    ) -> Result<Self, Box<dyn Error>> {
+    ) -> crate::Result<Self> {
         check_params(&p, &[])?;
         let shape = Shape::resolve(shape, None)?;
         let spec = BodySpec::new(shape, elements, reference)?.with_formalism(formalism);
@@ -121,7 +120,7 @@ impl ReducibleBody {
         count: Option<usize>,
         boundary: &[usize],
         flag: &str,
-    ) -> Result<ModalBasis, Box<dyn Error>> {
+    ) -> crate::Result<ModalBasis> {
         let basis = self.reduce_unchecked(count, boundary, flag)?;
         self.check_basis(&basis)?;
         Ok(basis)
@@ -131,7 +130,7 @@ impl ReducibleBody {
     /// finite, named as `ffr modes --json` keys it: at extreme parameters
     /// (`--rho 1e-300`) the eigenproblem overflows, and `inf`, `NaN` or JSON
     /// `null` must not be printed or written.
-    fn check_basis(&self, basis: &ModalBasis) -> Result<(), String> {
+    fn check_basis(&self, basis: &ModalBasis) -> crate::Result<()> {
         let label = |j: usize| {
             basis
                 .labels
@@ -166,7 +165,7 @@ impl ReducibleBody {
         }
         let projected = self.invariants.project(&basis.phi);
         check_invariants(&to_runtime(&projected), &basis.labels, Formalism::Lumped)
-            .map_err(|e| format!("invariants.{e}"))
+            .map_err(|e| crate::Error::Invalid(format!("invariants.{e}")))
     }
 
     fn reduce_unchecked(
@@ -174,7 +173,7 @@ impl ReducibleBody {
         count: Option<usize>,
         boundary: &[usize],
         flag: &str,
-    ) -> Result<ModalBasis, Box<dyn Error>> {
+    ) -> crate::Result<ModalBasis> {
         if !boundary.is_empty() {
             return self.craig_bampton(count, boundary, flag);
         }
@@ -205,7 +204,7 @@ impl ReducibleBody {
         count: Option<usize>,
         boundary: &[usize],
         flag: &str,
-    ) -> Result<ModalBasis, Box<dyn Error>> {
+    ) -> crate::Result<ModalBasis> {
         let n = self.spec.elements;
         if let Some(bad) = boundary.iter().find(|&&b| b > n) {
             return Err(
@@ -312,7 +311,7 @@ impl ReducibleBody {
         settings: &ModalSettings,
         stiffening: Stiffening,
         full: Box<dyn Body>,
-    ) -> Result<ModalBody, Box<dyn Error>> {
+    ) -> crate::Result<ModalBody> {
         if full.layout().nf != self.dofs.len() {
             return Err(format!(
                 "the full body has {} elastic coordinates, the reduction {}",
@@ -392,7 +391,7 @@ impl ReducibleBody {
 
 /// The modal body `settings` make of the beam `beam` describes (its full
 /// body, built as usual, places the markers).
-pub fn modal_body(beam: &BeamSpec, settings: &ModalSettings) -> Result<ModalBody, Box<dyn Error>> {
+pub fn modal_body(beam: &BeamSpec, settings: &ModalSettings) -> crate::Result<ModalBody> {
     let r = ReducibleBody::from_parts(
         &beam.shape,
         beam.elements,
@@ -404,13 +403,14 @@ pub fn modal_body(beam: &BeamSpec, settings: &ModalSettings) -> Result<ModalBody
 }
 
 /// `quantity` is `v`: an error unless `v` is finite.
-pub fn finite(quantity: impl Fn() -> String, v: f64) -> Result<(), String> {
+pub fn finite(quantity: impl Fn() -> String, v: f64) -> crate::Result<()> {
     if v.is_finite() {
         Ok(())
     } else {
         Err(format!(
             "{} is {v} at these parameters, not a finite number: the parameters are too large or too small for f64 (nothing written)",
             quantity()
-        ))
+        )
+        .into())
     }
 }

@@ -756,7 +756,7 @@ pub fn emit_scene_file(
     .unwrap();
     writeln!(
         items,
-        "impl {root}::scene::KernelProvider for {type_name}Kernels {{\nfn kernels(&self, spec: &{root}::scene::FlexSpec) -> ::core::result::Result<(::std::boxed::Box<dyn {runtime_path}::ElementKernels>, &'static str), ::std::boxed::Box<dyn ::std::error::Error>> {{\nmatch spec.model.name.as_str() {{\n{arms}other => ::core::result::Result::Err(::std::format!(\"no compiled kernels for body `{{other}}`\").into()),\n}}\n}}\n}}"
+        "impl {root}::scene::KernelProvider for {type_name}Kernels {{\nfn kernels(&self, spec: &{root}::scene::FlexSpec) -> ::core::result::Result<(::std::boxed::Box<dyn {runtime_path}::ElementKernels>, &'static str), {root}::Error> {{\nmatch spec.model.name.as_str() {{\n{arms}other => ::core::result::Result::Err({root}::Error::Invalid(::std::format!(\"no compiled kernels for body `{{other}}`\"))),\n}}\n}}\n}}"
     )
     .unwrap();
     writeln!(

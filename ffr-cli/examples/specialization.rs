@@ -109,10 +109,7 @@ struct Counted<'a> {
 }
 
 impl KernelProvider for Counted<'_> {
-    fn kernels(
-        &self,
-        spec: &FlexSpec,
-    ) -> Result<(Box<dyn ElementKernels>, &'static str), Box<dyn std::error::Error>> {
+    fn kernels(&self, spec: &FlexSpec) -> ffr::Result<(Box<dyn ElementKernels>, &'static str)> {
         let (inner, path) = self.inner.kernels(spec)?;
         let calls: Arc<[AtomicU64; 8]> = Arc::new(Default::default());
         self.handed

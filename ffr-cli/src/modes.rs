@@ -112,7 +112,7 @@ pub fn modes(
 /// Every number an export writes finite (the basis and the projected
 /// invariants are checked by [`ReducibleBody::reduce`]): the nodes'
 /// positions, mode shapes, lumped masses and inertias.
-fn check_export(e: &ExportBody) -> Result<(), String> {
+fn check_export(e: &ExportBody) -> ffr::Result<()> {
     for n in &e.nodes {
         let node = n.node;
         for (c, v) in n.position.iter().enumerate() {
@@ -137,7 +137,7 @@ fn check_export(e: &ExportBody) -> Result<(), String> {
         }
     }
     check_invariants(&to_runtime(&e.invariants), &e.labels, Formalism::Lumped)
-        .map_err(|m| format!("invariants.{m}"))
+        .map_err(|m| ffr::Error::Invalid(format!("invariants.{m}")))
 }
 
 /// `ffr export`: write the body reduced as [`ReducibleBody::reduce`] says in

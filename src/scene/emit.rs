@@ -4,7 +4,7 @@ use std::path::Path;
 
 /// The generated file `Builder::scene` writes for the scene at `path`, with
 /// the scene type named `type_name`.
-pub fn scene_file(path: &Path, type_name: &str) -> Result<String, Box<dyn std::error::Error>> {
+pub fn scene_file(path: &Path, type_name: &str) -> crate::Result<String> {
     let origin = path.display().to_string();
     Ok(crate::codegen::emit::emit_scene_file(
         path,

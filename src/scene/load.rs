@@ -120,10 +120,7 @@ pub struct FlexSpec {
 pub trait KernelProvider {
     /// The kernels for `spec`, and how they run (`compiled`, `tape`, …).
     #[allow(clippy::type_complexity)]
-    fn kernels(
-        &self,
-        spec: &FlexSpec,
-    ) -> Result<(Box<dyn ElementKernels>, &'static str), Box<dyn std::error::Error>>;
+    fn kernels(&self, spec: &FlexSpec) -> crate::Result<(Box<dyn ElementKernels>, &'static str)>;
 }
 
 /// Built-in compiled kernels when they exist, else tapes of the body's
@@ -136,10 +133,7 @@ pub struct DefaultKernels;
 pub struct GeneralKernels;
 
 impl KernelProvider for GeneralKernels {
-    fn kernels(
-        &self,
-        spec: &FlexSpec,
-    ) -> Result<(Box<dyn ElementKernels>, &'static str), Box<dyn std::error::Error>> {
+    fn kernels(&self, spec: &FlexSpec) -> crate::Result<(Box<dyn ElementKernels>, &'static str)> {
         let m = &spec.model;
         #[cfg(feature = "builtin-kernels")]
         if let Some(k) =
@@ -162,10 +156,7 @@ impl KernelProvider for GeneralKernels {
 }
 
 impl KernelProvider for DefaultKernels {
-    fn kernels(
-        &self,
-        spec: &FlexSpec,
-    ) -> Result<(Box<dyn ElementKernels>, &'static str), Box<dyn std::error::Error>> {
+    fn kernels(&self, spec: &FlexSpec) -> crate::Result<(Box<dyn ElementKernels>, &'static str)> {
         let k: Kernels = spec.beam.kernels()?;
         #[cfg(feature = "builtin-kernels")]
         if let Kernels::Compiled(_) = k {
@@ -278,15 +269,12 @@ fn vec_n(c: &Ctx, v: &Spanned<Vec<f64>>, n: usize, what: &str) -> Result<Vector3
 }
 
 /// Read and load a scene file (relative shape paths against its directory).
-pub fn load(path: &Path) -> Result<Scene, Box<dyn std::error::Error>> {
+pub fn load(path: &Path) -> crate::Result<Scene> {
     load_with(path, &DefaultKernels)
 }
 
 /// [`load`] with another kernel provider.
-pub fn load_with(
-    path: &Path,
-    provider: &dyn KernelProvider,
-) -> Result<Scene, Box<dyn std::error::Error>> {
+pub fn load_with(path: &Path, provider: &dyn KernelProvider) -> crate::Result<Scene> {
     let file = path.display().to_string();
     let text = crate::codegen::scene::read(path)?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();

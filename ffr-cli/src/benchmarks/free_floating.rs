@@ -93,7 +93,7 @@ pub fn free_body(
     elements: usize,
     stiff: bool,
 ) -> Result<KernelBody<Kernels>, Box<dyn std::error::Error>> {
-    free_spec(beam, elements, stiff).body()
+    Ok(free_spec(beam, elements, stiff).body()?)
 }
 
 // ------------------------------------------------------------ (1) round-off
