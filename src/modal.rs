@@ -361,7 +361,7 @@ impl ReducibleBody {
             let mut idx = Vec::new();
             for &(s, e) in m.factors() {
                 match s {
-                    Sym::Q(j) if e > 0 => idx.extend(std::iter::repeat(j).take(e as usize)),
+                    Sym::Q(j) if e > 0 => idx.extend(std::iter::repeat_n(j, e as usize)),
                     other => return Err(format!("projected energy term with `{other}^{e}`").into()),
                 }
             }

@@ -7,7 +7,6 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use ffr::runtime::Monitor;
-use std::path::Path;
 
 fn runs(c: &mut Criterion) {
     let dir = ffr::scene::load::builtin_dir();

@@ -92,7 +92,7 @@ pub enum Command {
     Run {
         /// The scene file (TOML; see the README's "Scene files").
         scene: PathBuf,
-        /// Where to write the outputs (default: results/<scene>.csv).
+        /// Where to write the outputs (default: results/SCENE.csv, SCENE the file name).
         #[arg(long)]
         csv: Option<PathBuf>,
         /// Where to write the SVG plot (default: next to the CSV).

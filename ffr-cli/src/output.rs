@@ -11,7 +11,7 @@
 //! then all renamed over their targets, so that readers see the old files
 //! or the new ones, never half a file, and a failure leaves no temporary and
 //! no new file. Errors name the path. Writes to standard output go through
-//! [`print`] (and [`outln!`](crate::outln)), whose errors are reported as
+//! [`print()`] (and [`outln!`](crate::outln)), whose errors are reported as
 //! `standard output: …` instead of a panic. Numbers are written in the
 //! shortest form that reads back to the same `f64`.
 

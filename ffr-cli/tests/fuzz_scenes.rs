@@ -77,8 +77,11 @@ const SCENES: [&str; 7] = [
     "two_link_arm.toml",
 ];
 
+/// Byte ranges `(start, end)` of tokens in a text.
+type Spans = Vec<(usize, usize)>;
+
 /// Spans of number literals and of basic strings in `text`.
-fn tokens(text: &str) -> (Vec<(usize, usize)>, Vec<(usize, usize)>) {
+fn tokens(text: &str) -> (Spans, Spans) {
     let b = text.as_bytes();
     let (mut nums, mut strs) = (Vec::new(), Vec::new());
     let mut i = 0;

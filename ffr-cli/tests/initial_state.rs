@@ -238,8 +238,7 @@ fn a_system_too_large_for_its_solver_is_refused_before_allocation() {
     let started = std::time::Instant::now();
     let scene = load(&text).unwrap();
     let e = run(&scene)
-        .err()
-        .expect("15 000 border unknowns were accepted")
+        .expect_err("15 000 border unknowns were accepted")
         .to_string();
     assert!(
         e.contains("border unknowns") && e.contains("MAX_BORDER_ENTRIES"),

@@ -295,18 +295,17 @@ fn joints_hold_to_the_newton_tolerance() {
         println!("{file}: max ‖Φ‖∞ {phi:.2e}");
         assert!(phi < bound, "{file}: {phi:e}");
     }
-    let spherical = format!(
-        r#"
+    let spherical = r#"
 dimension = 3
 gravity = [0.0, -9.81, 0.0]
 t_end = 0.5
 dt = 1e-3
-integrator = {{ kind = "generalized-alpha", rho_inf = 1.0 }}
+integrator = { kind = "generalized-alpha", rho_inf = 1.0 }
 
 [bodies.bar]
 shape = "beam3"
 elements = 2
-params = {{ length = 1.0, rho = 2700.0, area = 1e-4, iy = 8.333333333333334e-10, iz = 8.333333333333334e-10, e = 7.0e10, g = 2.6e10, j = 1.4e-9 }}
+params = { length = 1.0, rho = 2700.0, area = 1e-4, iy = 8.333333333333334e-10, iz = 8.333333333333334e-10, e = 7.0e10, g = 2.6e10, j = 1.4e-9 }
 omega = [0.0, 2.0, 0.0]
 
 [[joints]]
@@ -317,8 +316,7 @@ b = "bar"
 [[outputs]]
 name = "energy"
 kind = "energy"
-"#
-    );
+"#;
     let s = load(&spherical);
     let phi = max_violation(&s);
     let r = run(&s);
@@ -618,8 +616,8 @@ component = "kinetic"
 /// damping ratio `ζ = c/(2√(km))`, its position `x(t) = e^{−ζωt}(A cos ω_d t
 /// + B sin ω_d t)`; the springs energy is `½ k (l − l₀)²` of the position
 /// output; and `E(t) + D(t) = E(0)` (no applied work). Measured at
-/// dt = 1e-4 s: |x − closed form| ≤ 3.1e-7 m of 0.1 m, the springs energy to
-/// 2.2e-16 J, |E + D − E(0)| ≤ 9.6e-7 J of 1 J (0.96 J dissipated).
+/// dt = 1e-4 s: |x − closed form| ≤ 3.1e-7 m of 0.1 m, the springs energy
+/// to 2.2e-16 J, and |E + D − E(0)| ≤ 9.6e-7 J of 1 J (0.96 J dissipated).
 #[test]
 fn spring_damper_oscillator_against_its_closed_form() {
     let text = r#"

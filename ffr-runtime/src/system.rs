@@ -230,7 +230,7 @@ impl<B: Body> System<B> {
             )));
         }
         self.q0.extend_from_slice(&q);
-        self.v0.extend(std::iter::repeat(0.0).take(q.len()));
+        self.v0.extend(std::iter::repeat_n(0.0, q.len()));
         self.bodies.push(BodyEntry {
             body,
             name: name.to_string(),

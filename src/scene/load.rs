@@ -1070,7 +1070,7 @@ fn build(
                 t_end / dt,
                 outputs.len() + 1,
                 outputs.len(),
-                MAX_RECORDED_VALUES * 8 >> 20
+                (MAX_RECORDED_VALUES * 8) >> 20
             ),
         ));
     }

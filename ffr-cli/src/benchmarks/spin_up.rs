@@ -218,11 +218,15 @@ fn hub_system<B: ffr::runtime::Body>(
     Ok(sys)
 }
 
+/// A second copy of the beam body, to evaluate its point shapes and
+/// energies beside the system that owns the first.
+pub type Probe = KernelBody<Kernels>;
+
 /// The spin-up system: the beam clamped to the hub (its frame origin fixed
 /// at the global origin) with the hub angle prescribed.
 pub fn system(
     cfg: &SpinUp,
-) -> Result<(System<KernelBody<Kernels>>, KernelBody<Kernels>), Box<dyn std::error::Error>> {
+) -> Result<(System<KernelBody<Kernels>>, Probe), Box<dyn std::error::Error>> {
     check_drive(cfg)?;
     let body = cfg.beam().body()?;
     let probe = cfg.beam().body()?;
@@ -363,7 +367,7 @@ fn simulate<B: ffr::runtime::Body>(
 /// kernels need their reference rows.
 pub fn joint_driven_system(
     cfg: &SpinUp,
-) -> Result<(System<KernelBody<Kernels>>, KernelBody<Kernels>), Box<dyn std::error::Error>> {
+) -> Result<(System<KernelBody<Kernels>>, Probe), Box<dyn std::error::Error>> {
     check_drive(cfg)?;
     let mut spec = cfg.beam();
     spec.scene_dim = Some(3);

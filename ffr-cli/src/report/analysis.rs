@@ -19,7 +19,7 @@ pub fn pareto<'a>(points: impl IntoIterator<Item = &'a Point>) -> Vec<&'a Point>
     });
     let mut front: Vec<&Point> = Vec::new();
     for p in v {
-        if front.last().map_or(true, |l| p.error < l.error) {
+        if front.last().is_none_or(|l| p.error < l.error) {
             front.push(p);
         }
     }

@@ -218,7 +218,7 @@ mod tests {
             tool: "ffr".into(),
             reps: 3,
         };
-        let (back, pr) = parse_peer(&csv(&[p.clone()]), "ffr", "x");
+        let (back, pr) = parse_peer(&csv(std::slice::from_ref(&p)), "ffr", "x");
         assert!(pr.is_empty());
         assert_eq!(back, vec![Point { reps: 0, ..p }]);
     }

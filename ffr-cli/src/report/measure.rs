@@ -110,7 +110,7 @@ pub fn measure(case: &Case, reps: usize, budget: f64) -> Outcome {
                 }
                 used += run.cpu_s;
                 n += 1;
-                if best.map_or(true, |b| run.cpu_s < b.cpu_s) {
+                if best.is_none_or(|b| run.cpu_s < b.cpu_s) {
                     best = Some(run);
                 }
             }

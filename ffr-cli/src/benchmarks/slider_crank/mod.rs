@@ -614,7 +614,7 @@ pub struct SliderCrankArgs {
     /// End time (s); the published values are at 0.1 s.
     #[arg(long, default_value_t = T_END)]
     pub t_end: f64,
-    /// Where to write `t,phi2,x3,mid_deflection` (default: results/slider_crank_n<elements>.csv).
+    /// Where to write `t,phi2,x3,mid_deflection` (default: results/slider_crank_nN.csv, N the elements).
     #[arg(long)]
     pub csv: Option<PathBuf>,
 }
