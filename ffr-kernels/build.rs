@@ -8,7 +8,7 @@
 //! programs instead.
 
 use ffr_codegen::builder::{Builder, KernelConfig};
-use ffr_codegen::{Formalism, Stiffening};
+use ffr_codegen::{Formalism, FrameModel, Stiffening};
 use std::fmt::Write;
 
 /// (shape, scene dimension, free frame) of every built-in kernel set; each
@@ -51,8 +51,11 @@ fn main() {
                         .formalism(f)
                         .stiffening(s)
                         .scene_dim(scene)
-                        .free_frame(free)
-                        .zero_frame_acceleration(!free),
+                        .frame(if free {
+                            FrameModel::Free
+                        } else {
+                            FrameModel::PrescribedAtRest
+                        }),
                 );
                 entries.push((n, shape, scene, free, f, s));
             }

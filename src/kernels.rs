@@ -26,7 +26,7 @@ impl Kernels {
     /// `compiled, prescribed frame at rest`, `tape`, ….
     pub fn path(&self) -> &'static str {
         let info = self.info();
-        match (self, info.free_frame, info.zero_frame_acceleration) {
+        match (self, info.free_frame(), info.zero_frame_acceleration()) {
             #[cfg(feature = "builtin-kernels")]
             (Kernels::Compiled(_), true, _) => "compiled",
             #[cfg(feature = "builtin-kernels")]
@@ -77,38 +77,7 @@ pub struct BeamSpec {
     pub force_tape: bool,
 }
 
-/// What the kernels of a body assume about its frame's motion.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum FrameModel {
-    /// Any frame motion (reference rows, `ā` terms): the general body.
-    #[default]
-    Free,
-    /// Frame motion prescribed (no reference rows); built-in shapes run the
-    /// general compiled kernels, shape files tapes without reference rows.
-    Prescribed,
-    /// Frame motion prescribed, origin at rest, no gravity (`ā ≡ 0`).
-    PrescribedAtRest,
-}
-
-impl FrameModel {
-    /// `(free_frame, zero_frame_acceleration)` of the kernel model.
-    pub fn flags(self) -> (bool, bool) {
-        match self {
-            FrameModel::Free => (true, false),
-            FrameModel::Prescribed => (false, false),
-            FrameModel::PrescribedAtRest => (false, true),
-        }
-    }
-
-    /// From the kernel model's flags.
-    pub fn from_flags(free_frame: bool, zero_frame_acceleration: bool) -> Self {
-        match (free_frame, zero_frame_acceleration) {
-            (false, true) => FrameModel::PrescribedAtRest,
-            (false, false) => FrameModel::Prescribed,
-            (true, _) => FrameModel::Free,
-        }
-    }
-}
+pub use crate::runtime::spec::FrameModel;
 
 impl BeamSpec {
     /// `elements` clamped `shape` elements, consistent, no stiffening.
@@ -130,7 +99,6 @@ impl BeamSpec {
     pub fn kernels(&self) -> Result<Kernels, crate::codegen::Error> {
         let shape = crate::codegen::Shape::resolve(&self.shape, None)?;
         let scene = self.scene_dim.unwrap_or(shape.dimension);
-        let (free_frame, zero_frame_acceleration) = self.frame.flags();
         #[cfg(feature = "builtin-kernels")]
         if !self.force_tape && shape.path.is_none() {
             if let Some(k) = builtin(
@@ -143,14 +111,13 @@ impl BeamSpec {
                 return Ok(Kernels::Compiled(k));
             }
         }
-        let model = crate::codegen::KernelModel {
-            shape,
+        let options = crate::runtime::spec::KernelOptions {
             formalism: self.formalism,
             stiffening: self.stiffening,
-            scene_dim: scene,
-            free_frame,
-            zero_frame_acceleration,
+            scene: crate::runtime::spec::SceneDim::from_dim(scene),
+            frame: self.frame,
         };
+        let model = crate::codegen::KernelModel::new(shape, options);
         Ok(Kernels::Tape(Box::new(TapeKernels::new(&model)?)))
     }
 

@@ -31,10 +31,10 @@ use crate::kernel::generate_kernels;
 use crate::limits::check_literals;
 use crate::sanitize::{check_identifier, check_type_name};
 use crate::shape::Shape;
-use ffr_spec::Stiffening;
+use ffr_spec::{FrameModel, KernelOptions, SceneDim, Stiffening};
 use std::path::{Path, PathBuf};
 
-/// The options of one set of element kernels.
+/// One set of element kernels: a name, a shape and the options.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct KernelConfig {
     /// Name: the file is `<name>.rs`, the type the CamelCase of the name
@@ -42,17 +42,9 @@ pub struct KernelConfig {
     pub name: String,
     /// A built-in shape (`beam2`, `beam3`) or a path to a shape file.
     pub shape: String,
-    /// Inertia formalism (default consistent).
-    pub formalism: Formalism,
-    /// Stiffening model (default off).
-    pub stiffening: Stiffening,
-    /// Scene dimension the kernels are for (default: the shape's).
-    pub scene_dim: Option<usize>,
-    /// Generate the reference rows for a freely moving frame (default yes);
-    /// `false` only supports prescribed frame motion.
-    pub free_frame: bool,
-    /// `ā ≡ 0`: frame origin fixed and no gravity (default no).
-    pub zero_frame_acceleration: bool,
+    /// The options (default: consistent, no stiffening, the shape's scene,
+    /// free frame).
+    pub options: KernelOptions,
 }
 
 impl KernelConfig {
@@ -62,65 +54,63 @@ impl KernelConfig {
         Self {
             name: name.to_string(),
             shape: shape.as_ref().to_string(),
-            formalism: Formalism::Consistent,
-            stiffening: Stiffening::Off,
-            scene_dim: None,
-            free_frame: true,
-            zero_frame_acceleration: false,
+            options: KernelOptions::new(),
         }
+    }
+    /// All options at once.
+    pub fn options(mut self, o: KernelOptions) -> Self {
+        self.options = o;
+        self
     }
     /// The inertia formalism.
     pub fn formalism(mut self, f: Formalism) -> Self {
-        self.formalism = f;
+        self.options.formalism = f;
         self
     }
     /// The stiffening model.
     pub fn stiffening(mut self, s: Stiffening) -> Self {
-        self.stiffening = s;
+        self.options.stiffening = s;
         self
     }
-    /// The scene dimension (a planar shape in a spatial scene needs 3).
-    pub fn scene_dim(mut self, d: usize) -> Self {
-        self.scene_dim = Some(d);
+    /// The scene (a planar shape in a spatial scene needs [`SceneDim::Spatial`]).
+    pub fn scene(mut self, d: SceneDim) -> Self {
+        self.options.scene = Some(d);
         self
     }
-    /// Whether the body's frame moves freely (else: prescribed).
+    /// The scene by its dimension, 2 or 3.
+    ///
+    /// # Panics
+    /// For any other number (a mistake in the build script).
+    pub fn scene_dim(self, d: usize) -> Self {
+        match SceneDim::from_dim(d) {
+            Some(d) => self.scene(d),
+            None => panic!("scene dimension must be 2 or 3, found {d}"),
+        }
+    }
+    /// What the kernels assume about the frame's motion.
+    pub fn frame(mut self, f: FrameModel) -> Self {
+        self.options.frame = f;
+        self
+    }
+    /// Whether the body's frame moves freely (else: prescribed, keeping
+    /// [`FrameModel::PrescribedAtRest`] if it was set).
     pub fn free_frame(mut self, on: bool) -> Self {
-        self.free_frame = on;
-        self
-    }
-
-    /// Whether `ā ≡ 0` (frame origin at rest or moving uniformly, no
-    /// gravity): the terms in `ā` are left out, and the runtime refuses the
-    /// kernels in a scene where `ā` can be non-zero.
-    pub fn zero_frame_acceleration(mut self, on: bool) -> Self {
-        self.zero_frame_acceleration = on;
+        let (_, at_rest) = self.options.frame.flags();
+        self.options.frame = FrameModel::from_flags(on, at_rest);
         self
     }
 
     /// The kernel model, with relative shape paths resolved against `base`.
     pub fn model(&self, base: &Path) -> Result<KernelModel, Error> {
         let shape = resolve_shape(&self.shape, base)?;
-        let scene_dim = self.scene_dim.unwrap_or(shape.dimension);
-        if scene_dim != 2 && scene_dim != 3 {
-            return Err(Error::Body(format!(
-                "scene dimension must be 2 or 3, found {scene_dim}"
-            )));
-        }
-        if scene_dim < shape.dimension {
+        let model = KernelModel::new(shape, self.options);
+        if model.scene_dim() < model.shape.dimension {
             return Err(Error::Body(format!(
                 "shape `{}` is spatial: it needs a spatial scene (scene dimension 3)",
-                shape.name
+                model.shape.name
             )));
         }
-        Ok(KernelModel {
-            shape,
-            formalism: self.formalism,
-            stiffening: self.stiffening,
-            scene_dim,
-            free_frame: self.free_frame,
-            zero_frame_acceleration: self.zero_frame_acceleration,
-        })
+        Ok(model)
     }
 }
 
@@ -148,30 +138,39 @@ impl BodyConfig {
             reference,
         }
     }
+    /// All kernel options at once.
+    pub fn options(mut self, o: KernelOptions) -> Self {
+        self.kernels.options = o;
+        self
+    }
     /// The inertia formalism.
     pub fn formalism(mut self, f: Formalism) -> Self {
-        self.kernels.formalism = f;
+        self.kernels = self.kernels.formalism(f);
         self
     }
     /// The stiffening model.
     pub fn stiffening(mut self, s: Stiffening) -> Self {
-        self.kernels.stiffening = s;
+        self.kernels = self.kernels.stiffening(s);
         self
     }
-    /// The scene dimension.
+    /// The scene.
+    pub fn scene(mut self, d: SceneDim) -> Self {
+        self.kernels = self.kernels.scene(d);
+        self
+    }
+    /// The scene by its dimension ([`KernelConfig::scene_dim`]).
     pub fn scene_dim(mut self, d: usize) -> Self {
-        self.kernels.scene_dim = Some(d);
+        self.kernels = self.kernels.scene_dim(d);
         self
     }
-    /// Whether the body's frame moves freely.
+    /// What the kernels assume about the frame's motion.
+    pub fn frame(mut self, f: FrameModel) -> Self {
+        self.kernels = self.kernels.frame(f);
+        self
+    }
+    /// Whether the body's frame moves freely ([`KernelConfig::free_frame`]).
     pub fn free_frame(mut self, on: bool) -> Self {
-        self.kernels.free_frame = on;
-        self
-    }
-
-    /// Whether `ā ≡ 0` ([`KernelConfig::zero_frame_acceleration`]).
-    pub fn zero_frame_acceleration(mut self, on: bool) -> Self {
-        self.kernels.zero_frame_acceleration = on;
+        self.kernels = self.kernels.free_frame(on);
         self
     }
 }
@@ -394,7 +393,7 @@ impl Builder {
                 Entry::Body(b) => {
                     let model = b.kernels.model(&base)?;
                     let spec = BodySpec::new(model.shape.clone(), b.elements, b.reference)?
-                        .with_formalism(b.kernels.formalism);
+                        .with_formalism(b.kernels.options.formalism);
                     let set = generate_kernels(&model)?;
                     check_literals(&set)?;
                     let opts = EmitOptions {

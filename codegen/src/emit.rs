@@ -40,22 +40,11 @@ pub use crate::sanitize::comment_text;
 pub fn describe(set: &KernelSet) -> String {
     let m = set.model();
     format!(
-        "shape `{}` ({}, fnv1a {:016x}), {} formalism, stiffening {}, {} scene, {}",
+        "shape `{}` ({}, fnv1a {:016x}), {}",
         comment_text(&m.shape.name),
         comment_text(&m.shape.origin),
         m.shape.source_hash,
-        m.formalism,
-        m.stiffening,
-        if m.scene_dim == 2 {
-            "planar"
-        } else {
-            "spatial"
-        },
-        if m.free_frame {
-            "free frame"
-        } else {
-            "prescribed frame motion"
-        }
+        m.resolved_options().describe()
     )
 }
 
@@ -63,19 +52,19 @@ pub fn describe(set: &KernelSet) -> String {
 pub fn omissions(set: &KernelSet) -> Vec<String> {
     let m = set.model();
     let mut v = Vec::new();
-    if m.scene_dim == 2 {
+    if m.scene() == ffr_spec::SceneDim::Planar {
         v.push(
             "ā_z, α_x, α_y, ω_x, ω_y and their terms: planar scene (motion in the x–y plane)"
                 .to_string(),
         );
     }
-    if !m.free_frame {
+    if !m.options.frame.is_free() {
         v.push("reference rows f_r, f_θ and the frame derivatives (residual, tangent): frame motion prescribed".to_string());
     }
-    if m.zero_frame_acceleration {
+    if m.options.frame.zero_frame_acceleration() {
         v.push("ā = Aᵀ(R̈ − g) and its terms: frame origin fixed, no gravity".to_string());
     }
-    if !m.stiffening.is_on() {
+    if !m.options.stiffening.is_on() {
         v.push("geometric stiffening energy: stiffening off".to_string());
     }
     v
@@ -276,6 +265,18 @@ fn ops_doc(p: &Program) -> String {
     format!("#[doc = \" operations: {}\"]\n", p.ops())
 }
 
+/// The Rust expression of `o` (a constant of the runtime's `spec` module).
+fn options_expr(o: &ffr_spec::KernelOptions, rt: &str) -> String {
+    let scene = match o.scene {
+        Some(d) => format!("::core::option::Option::Some({rt}::spec::SceneDim::{d:?})"),
+        None => "::core::option::Option::None".into(),
+    };
+    format!(
+        "{rt}::spec::KernelOptions {{ formalism: {rt}::spec::Formalism::{:?}, stiffening: {rt}::spec::Stiffening::{:?}, scene: {scene}, frame: {rt}::spec::FrameModel::{:?} }}",
+        o.formalism, o.stiffening, o.frame
+    )
+}
+
 fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
     let n = set.n();
     let nc = set.coefficients.len();
@@ -321,14 +322,10 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
     writeln!(s, "#[allow(clippy::all, clippy::pedantic, unused_variables)]\nimpl {rt}::ElementKernels for {kt} {{").unwrap();
     writeln!(
         s,
-        "fn info(&self) -> &{rt}::KernelInfo {{ const INFO: {rt}::KernelInfo = {rt}::KernelInfo {{ shape: ::std::borrow::Cow::Borrowed({:?}), dim: {}, scene_dim: {}, n_local: {n}, coordinates: ::std::borrow::Cow::Borrowed(&[{coords}]), formalism: {rt}::spec::Formalism::{:?}, stiffening: {rt}::spec::Stiffening::{:?}, free_frame: {}, zero_frame_acceleration: {}, n_coefficients: {nc}, params_used: ::std::borrow::Cow::Borrowed(&[{params}]), scratch: 0 }}; &INFO }}",
+        "fn info(&self) -> &{rt}::KernelInfo {{ const INFO: {rt}::KernelInfo = {rt}::KernelInfo {{ shape: ::std::borrow::Cow::Borrowed({:?}), dim: {}, n_local: {n}, coordinates: ::std::borrow::Cow::Borrowed(&[{coords}]), options: {}, n_coefficients: {nc}, params_used: ::std::borrow::Cow::Borrowed(&[{params}]), scratch: 0 }}; &INFO }}",
         comment_text(&m.shape.name),
         m.shape.dimension,
-        m.scene_dim,
-        m.formalism,
-        m.stiffening,
-        m.free_frame,
-        m.zero_frame_acceleration
+        options_expr(&m.resolved_options(), rt),
     )
     .unwrap();
 
@@ -715,14 +712,7 @@ pub fn emit_scene_file(
     let mut arms = String::new();
     for m in &models {
         let shape = crate::builder::resolve_shape(&m.shape, &dir)?;
-        let model = crate::eom::KernelModel {
-            shape,
-            formalism: m.formalism,
-            stiffening: m.stiffening,
-            scene_dim: m.scene_dim,
-            free_frame: m.free_frame,
-            zero_frame_acceleration: m.zero_frame_acceleration,
-        };
+        let model = crate::eom::KernelModel::new(shape, m.options);
         let set = generate_kernels(&model)?;
         check_literals(&set)?;
         let body_type = crate::scene::body_type_name(&m.name);

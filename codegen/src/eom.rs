@@ -23,27 +23,40 @@ use crate::energy::{element_energy, ElementEnergy};
 use crate::error::Error;
 use crate::poly::{rat, Param, Poly, Sym};
 use crate::shape::Shape;
-use ffr_spec::{Formalism, Stiffening};
+use ffr_spec::{KernelOptions, SceneDim};
 
-/// What a set of element kernels is generated for.
+/// What a set of element kernels is generated for: a shape and the
+/// options ([`KernelOptions`]; planar kernels have frame motion in the x–y
+/// plane, `ā_z = α_x = α_y = ω_x = ω_y = 0`; without a free frame only the
+/// elastic equations are generated; at rest, no `ā` terms).
 #[derive(Clone, Debug)]
 pub struct KernelModel {
     /// The element shape.
     pub shape: Shape,
-    /// Inertia formalism.
-    pub formalism: Formalism,
-    /// Stiffening model.
-    pub stiffening: Stiffening,
-    /// 2: planar kernels (frame motion in the x–y plane: `ā_z = α_x = α_y =
-    /// ω_x = ω_y = 0`), 3: spatial.
-    pub scene_dim: usize,
-    /// Also generate the reference rows (`f_r`, `f_θ`) and the frame
-    /// derivatives, for bodies whose frame moves freely. Without them only
-    /// the elastic equations are generated (frame motion prescribed).
-    pub free_frame: bool,
-    /// `ā = Aᵀ(R̈ − g) ≡ 0`: the frame origin is fixed and there is no
-    /// gravity, so no `ā` terms are generated.
-    pub zero_frame_acceleration: bool,
+    /// The options (scene `None`: the shape's dimension).
+    pub options: KernelOptions,
+}
+
+impl KernelModel {
+    /// `shape` with `options`.
+    pub fn new(shape: Shape, options: KernelOptions) -> Self {
+        Self { shape, options }
+    }
+
+    /// The scene, resolved against the shape's dimension.
+    pub fn scene(&self) -> SceneDim {
+        self.options.scene_or(self.shape.dimension)
+    }
+
+    /// 2 (planar scene) or 3.
+    pub fn scene_dim(&self) -> usize {
+        self.scene().dim()
+    }
+
+    /// The options with the scene resolved (what `KernelInfo` reports).
+    pub fn resolved_options(&self) -> KernelOptions {
+        self.options.resolved(self.shape.dimension)
+    }
 }
 
 /// An output array of a kernel.
@@ -174,14 +187,14 @@ fn bilinear(
 impl KernelModel {
     /// Build every kernel's polynomials.
     pub fn polys(&self) -> Result<KernelPolys, Error> {
-        let inv = element_invariants(&self.shape, self.formalism)?;
-        let energy_form = element_energy(&self.shape, self.stiffening);
+        let inv = element_invariants(&self.shape, self.options.formalism)?;
+        let energy_form = element_energy(&self.shape, self.options.stiffening);
         let n = inv.nf;
         let mut dag = Dag::new();
 
         // Frame inputs (zero where a planar scene has none).
-        let planar = self.scene_dim == 2;
-        let zero_a = self.zero_frame_acceleration;
+        let planar = self.scene() == SceneDim::Planar;
+        let zero_a = self.options.frame.zero_frame_acceleration();
         let live = |k: usize| !(planar && matches!(k, 2 | 3 | 4 | 6 | 7)) && !(zero_a && k < 3);
         let f = |k: usize| if live(k) { frame(k) } else { Poly::zero() };
         let a_bar = [f(0), f(1), f(2)];
@@ -464,7 +477,7 @@ impl KernelModel {
         }
         tangent_elastic.extend(k_ee.iter().filter(|(_, p)| !p.is_zero()).cloned());
 
-        let (residual, tangent) = if self.free_frame {
+        let (residual, tangent) = if self.options.frame.is_free() {
             let mut res = Outputs::new();
             for k in 0..3 {
                 push(&mut res, OutArr::Fr, k, f_r[k].clone());

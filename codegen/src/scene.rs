@@ -385,16 +385,10 @@ pub struct FlexBodyModel {
     pub shape: String,
     /// Span of the shape string (for errors).
     pub span: Range<usize>,
-    /// Inertia formalism.
-    pub formalism: ffr_spec::Formalism,
-    /// Stiffening model.
-    pub stiffening: ffr_spec::Stiffening,
-    /// Scene dimension.
-    pub scene_dim: usize,
-    /// Whether its frame moves freely (else every frame coordinate is prescribed).
-    pub free_frame: bool,
-    /// Whether `ā = Aᵀ(R̈ − g)` vanishes (frame origin fixed, no gravity).
-    pub zero_frame_acceleration: bool,
+    /// Its kernel options: the scene's dimension, a free frame unless a
+    /// folded joint prescribes its motion (then at rest when, in addition,
+    /// the scene has no gravity: `ā = Aᵀ(R̈ − g) ≡ 0`).
+    pub options: ffr_spec::KernelOptions,
 }
 
 fn scene_err(text: &str, file: &str, span: Range<usize>, message: String) -> Error {
@@ -475,11 +469,12 @@ pub fn flex_models(raw: &RawScene, text: &str, file: &str) -> Result<Vec<FlexBod
             name: name.clone(),
             shape: shape.get_ref().clone(),
             span: shape.span(),
-            formalism,
-            stiffening,
-            scene_dim: dim,
-            free_frame: !fixed,
-            zero_frame_acceleration: fixed && !gravity,
+            options: ffr_spec::KernelOptions {
+                formalism,
+                stiffening,
+                scene: ffr_spec::SceneDim::from_dim(dim),
+                frame: ffr_spec::FrameModel::from_flags(!fixed, fixed && !gravity),
+            },
         });
     }
     Ok(out)

@@ -59,8 +59,8 @@ use ffr_codegen::eom::OutArr;
 use ffr_codegen::limits::{check_literals, check_params};
 use ffr_codegen::program::Inputs;
 use ffr_codegen::{
-    emit_body_file, generate_kernels, BodySpec, EmitOptions, Error, Formalism, KernelModel,
-    KernelSet, Params, Reference, Shape, Stiffening,
+    emit_body_file, generate_kernels, BodySpec, EmitOptions, Error, Formalism, FrameModel,
+    KernelModel, KernelOptions, KernelSet, Params, Reference, SceneDim, Shape, Stiffening,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
@@ -698,14 +698,18 @@ fn check_case(c: &Case, work: &mut Work) -> Result<Outcome, String> {
     let spec = BodySpec::new(shape.clone(), c.elements, c.reference)
         .map_err(|e| format!("BodySpec::new: {e}"))?
         .with_formalism(c.formalism);
-    let model = KernelModel {
-        scene_dim: if c.spatial_scene { 3 } else { shape.dimension },
-        shape,
-        formalism: c.formalism,
-        stiffening: c.stiffening,
-        free_frame: c.free_frame,
-        zero_frame_acceleration: c.zero_frame_acceleration,
-    };
+    // A free frame keeps its `ā` terms whatever `zero_frame_acceleration` says.
+    let mut options = KernelOptions::new()
+        .formalism(c.formalism)
+        .stiffening(c.stiffening)
+        .frame(FrameModel::from_flags(
+            c.free_frame,
+            c.zero_frame_acceleration,
+        ));
+    if c.spatial_scene {
+        options = options.scene(SceneDim::Spatial);
+    }
+    let model = KernelModel::new(shape, options);
     // The body's exact invariants and the kernels both start from the
     // element invariants: both succeed, or both fail with the same error.
     let exact = work.time(|| spec.exact_invariants());

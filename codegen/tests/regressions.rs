@@ -12,7 +12,7 @@ use ffr_codegen::limits::{self, check_literals};
 use ffr_codegen::program::Expr;
 use ffr_codegen::{
     emit_body_file, emit_kernels_file, generate_kernels, BodySpec, Builder, EmitOptions, Error,
-    Formalism, KernelModel, KernelSet, Params, Reference, Shape, Stiffening,
+    Formalism, KernelModel, KernelOptions, KernelSet, Params, Reference, Shape, Stiffening,
 };
 use std::time::{Duration, Instant};
 
@@ -281,16 +281,10 @@ fn a_truncated_shape_file_says_what_is_missing() {
 
 /// The kernels of `shape` for a free frame in its own scene.
 fn kernels(shape: Shape, formalism: Formalism, stiffening: Stiffening) -> KernelSet {
-    let scene_dim = shape.dimension;
-    generate_kernels(&KernelModel {
-        shape,
-        formalism,
-        stiffening,
-        scene_dim,
-        free_frame: true,
-        zero_frame_acceleration: false,
-    })
-    .unwrap()
+    let options = KernelOptions::new()
+        .formalism(formalism)
+        .stiffening(stiffening);
+    generate_kernels(&KernelModel::new(shape, options)).unwrap()
 }
 
 /// A shape whose name (or coordinate name) is `name`, as TOML.

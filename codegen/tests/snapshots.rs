@@ -7,18 +7,19 @@
 
 use ffr_codegen::builder::{BodyConfig, Builder, KernelConfig};
 use ffr_codegen::{
-    emit_kernels_file, generate_kernels, Formalism, KernelModel, Reference, Shape, Stiffening,
+    emit_kernels_file, generate_kernels, Formalism, FrameModel, KernelModel, KernelOptions,
+    Reference, SceneDim, Shape, Stiffening,
 };
 
 fn kernels(shape: &str, scene_dim: usize, formalism: Formalism, stiffening: Stiffening) -> String {
-    let set = generate_kernels(&KernelModel {
-        shape: Shape::resolve(shape, None).unwrap(),
-        formalism,
-        stiffening,
-        scene_dim,
-        free_frame: true,
-        zero_frame_acceleration: false,
-    })
+    let options = KernelOptions::new()
+        .formalism(formalism)
+        .stiffening(stiffening)
+        .scene(SceneDim::from_dim(scene_dim).unwrap());
+    let set = generate_kernels(&KernelModel::new(
+        Shape::resolve(shape, None).unwrap(),
+        options,
+    ))
     .unwrap();
     let name = format!(
         "{}{}",
@@ -68,14 +69,14 @@ fn beam3_spatial_fourth_order() {
 /// (the header says what was left out and why).
 #[test]
 fn beam2_planar_prescribed_at_rest() {
-    let set = generate_kernels(&KernelModel {
-        shape: Shape::resolve("beam2", None).unwrap(),
-        formalism: Formalism::Consistent,
-        stiffening: Stiffening::FourthOrder,
-        scene_dim: 2,
-        free_frame: false,
-        zero_frame_acceleration: true,
-    })
+    let options = KernelOptions::new()
+        .stiffening(Stiffening::FourthOrder)
+        .scene(SceneDim::Planar)
+        .frame(FrameModel::PrescribedAtRest);
+    let set = generate_kernels(&KernelModel::new(
+        Shape::resolve("beam2", None).unwrap(),
+        options,
+    ))
     .unwrap();
     insta::assert_snapshot!(emit_kernels_file(
         &set,

@@ -122,14 +122,10 @@ impl KernelProvider for Counted<'_> {
 
 /// Operation count of every kernel of the set described by `info`.
 fn ops(info: &KernelInfo) -> [u64; 8] {
-    let model = KernelModel {
-        shape: Shape::resolve(&info.shape, None).expect("a built-in shape"),
-        formalism: info.formalism,
-        stiffening: info.stiffening,
-        scene_dim: info.scene_dim,
-        free_frame: info.free_frame,
-        zero_frame_acceleration: info.zero_frame_acceleration,
-    };
+    let model = KernelModel::new(
+        Shape::resolve(&info.shape, None).expect("a built-in shape"),
+        info.options,
+    );
     let set = generate_kernels(&model).expect("the kernels generate");
     let mut out = [0; 8];
     for (name, p) in set.programs() {

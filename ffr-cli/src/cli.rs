@@ -682,7 +682,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                         n as usize,
                         reference.parse::<Reference>()?,
                     )?
-                    .with_formalism(model.formalism);
+                    .with_formalism(model.options.formalism);
                     let set = generate_kernels(&model)?;
                     check_literals(&set)?;
                     ffr::codegen::emit_body_file(

@@ -6,20 +6,16 @@
 use ffr::codegen::{generate_kernels, KernelModel, Shape};
 use ffr::kernels::{BeamSpec, FrameModel};
 use ffr::runtime::nalgebra::Vector3;
-use ffr::runtime::spec::{Formalism, Stiffening};
+use ffr::runtime::spec::{KernelOptions, SceneDim, Stiffening};
 use ffr::runtime::{Driver, Marker, Pose, System};
 use ffr_cli::benchmarks::spin_up::{run, SpinUp, KRB};
 
 fn model(shape: &str, scene_dim: usize, frame: FrameModel) -> KernelModel {
-    let (free_frame, zero_frame_acceleration) = frame.flags();
-    KernelModel {
-        shape: Shape::resolve(shape, None).unwrap(),
-        formalism: Formalism::Consistent,
-        stiffening: Stiffening::FourthOrder,
-        scene_dim,
-        free_frame,
-        zero_frame_acceleration,
-    }
+    let options = KernelOptions::new()
+        .stiffening(Stiffening::FourthOrder)
+        .scene(SceneDim::from_dim(scene_dim).unwrap())
+        .frame(frame);
+    KernelModel::new(Shape::resolve(shape, None).unwrap(), options)
 }
 
 /// The specialized elastic kernels do strictly less work and have no

@@ -12,7 +12,8 @@ use ffr_codegen::emit::body_items;
 use ffr_codegen::poly::Param;
 use ffr_codegen::shape::builtin_names;
 use ffr_codegen::{
-    generate_kernels, BodySpec, EmitOptions, Formalism, KernelModel, Reference, Stiffening,
+    generate_kernels, BodySpec, EmitOptions, KernelModel, KernelOptions, Reference, SceneDim,
+    Stiffening,
 };
 use proc_macro::TokenStream;
 use proc_macro2::{Span, TokenStream as TokenStream2};
@@ -64,15 +65,15 @@ pub fn flex_body(attr: TokenStream, item: TokenStream) -> TokenStream {
 
 const OPTIONS: &str = "shape, elements, reference, formalism, stiffening, scene";
 
-/// The attribute's options as written.
+/// The attribute's options as written: the shape and mesh, and the kernel
+/// options as one value (the scene's literal kept for its error span).
 #[derive(Default)]
 struct Args {
     shape: Option<LitStr>,
     elements: Option<(usize, Expr)>,
-    reference: Option<(Reference, LitStr)>,
-    formalism: Option<(Formalism, LitStr)>,
-    stiffening: Option<Stiffening>,
-    scene: Option<(usize, LitStr)>,
+    reference: Option<Reference>,
+    options: KernelOptions,
+    scene: Option<LitStr>,
 }
 
 fn combine(errors: &mut Option<Error>, e: Error) {
@@ -123,40 +124,40 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
             "reference" => {
                 string(&value, &name, "\"clamped\", \"pinned\" or \"free\"").and_then(|s| {
                     let r = s.value().parse().map_err(|e| Error::new_spanned(&s, e))?;
-                    args.reference = Some((r, s));
+                    args.reference = Some(r);
                     Ok(())
                 })
             }
             "formalism" => string(&value, &name, "\"consistent\" or \"lumped\"").and_then(|s| {
-                let f = s.value().parse().map_err(|e| Error::new_spanned(&s, e))?;
-                args.formalism = Some((f, s));
+                args.options.formalism =
+                    s.value().parse().map_err(|e| Error::new_spanned(&s, e))?;
                 Ok(())
             }),
             "scene" => string(&value, &name, "\"planar\" or \"spatial\"").and_then(|s| {
-                let d = match s.value().as_str() {
-                    "planar" => 2,
-                    "spatial" => 3,
-                    other => {
-                        return Err(Error::new_spanned(
-                            &s,
-                            format!("unknown scene `{other}`: expected \"planar\" or \"spatial\""),
-                        ))
-                    }
-                };
-                args.scene = Some((d, s));
+                let d = s.value().parse::<SceneDim>().map_err(|_| {
+                    Error::new_spanned(
+                        &s,
+                        format!(
+                            "unknown scene `{}`: expected \"planar\" or \"spatial\"",
+                            s.value()
+                        ),
+                    )
+                })?;
+                args.options.scene = Some(d);
+                args.scene = Some(s);
                 Ok(())
             }),
             _ => match &value {
                 Expr::Lit(ExprLit {
                     lit: Lit::Bool(b), ..
                 }) => {
-                    args.stiffening = Some(Stiffening::from_bool(b.value));
+                    args.options.stiffening = Stiffening::from_bool(b.value);
                     Ok(())
                 }
                 Expr::Lit(ExprLit {
                     lit: Lit::Str(st), ..
                 }) if matches!(st.value().as_str(), "second-order" | "fourth-order" | "off") => {
-                    args.stiffening = Some(st.value().parse().expect("checked"));
+                    args.options.stiffening = st.value().parse().expect("checked");
                     Ok(())
                 }
                 other => Err(Error::new_spanned(
@@ -303,8 +304,7 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
     };
     let shape_lit = args.shape.expect("checked");
     let (elements, elements_expr) = args.elements.expect("checked");
-    let reference = args.reference.map_or(Reference::Clamped, |r| r.0);
-    let formalism = args.formalism.map_or(Formalism::Consistent, |f| f.0);
+    let reference = args.reference.unwrap_or(Reference::Clamped);
 
     let manifest_dir = std::env::var_os("CARGO_MANIFEST_DIR")
         .map(PathBuf::from)
@@ -319,29 +319,18 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
     })?;
     let shape_name = shape.name.clone();
     let shape_file = shape.path.clone();
-    let scene_dim = match args.scene {
-        Some((d, lit)) => {
-            if d < shape.dimension {
-                return Err(Error::new_spanned(
-                    lit,
-                    format!("shape `{shape_name}` is spatial: it needs scene = \"spatial\""),
-                ));
-            }
-            d
+    if let Some(lit) = &args.scene {
+        if args.options.scene_or(shape.dimension).dim() < shape.dimension {
+            return Err(Error::new_spanned(
+                lit,
+                format!("shape `{shape_name}` is spatial: it needs scene = \"spatial\""),
+            ));
         }
-        None => shape.dimension,
-    };
+    }
     let spec = BodySpec::new(shape.clone(), elements, reference)
         .map_err(|e| Error::new_spanned(&elements_expr, e))?
-        .with_formalism(formalism);
-    let model = KernelModel {
-        shape,
-        formalism,
-        stiffening: args.stiffening.unwrap_or(Stiffening::Off),
-        scene_dim,
-        free_frame: true,
-        zero_frame_acceleration: false,
-    };
+        .with_formalism(args.options.formalism);
+    let model = KernelModel::new(shape, args.options);
     let generated = generate_kernels(&model).map_err(|e| Error::new_spanned(&shape_lit, e))?;
     ffr_codegen::limits::check_literals(&generated)
         .map_err(|e| Error::new_spanned(&shape_lit, e))?;

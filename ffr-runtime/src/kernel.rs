@@ -15,7 +15,7 @@
 //! slices; outputs not written by a kernel are structurally zero, so callers
 //! clear their buffers before a call.
 
-use ffr_spec::{ElementCoordinate, Formalism, Param, Params, Reference, Stiffening};
+use ffr_spec::{ElementCoordinate, KernelOptions, Param, Params, Reference};
 use std::borrow::Cow;
 
 /// What a set of element kernels was generated for.
@@ -25,24 +25,16 @@ pub struct KernelInfo {
     pub shape: Cow<'static, str>,
     /// Shape dimension: 2 (planar, x–y) or 3.
     pub dim: usize,
-    /// Scene dimension the kernels were generated for: 2 (frame motion in
-    /// the x–y plane) or 3.
-    pub scene_dim: usize,
     /// Element coordinates `n_e`.
     pub n_local: usize,
     /// The element's coordinates (node 0/1 and kind), in kernel order.
     pub coordinates: Cow<'static, [ElementCoordinate]>,
-    /// Inertia formalism.
-    pub formalism: Formalism,
-    /// Stiffening model.
-    pub stiffening: Stiffening,
-    /// Whether the reference rows (`residual`, `tangent`) exist: without
-    /// them only a body whose frame motion is prescribed can use the kernels.
-    pub free_frame: bool,
-    /// Whether the kernels were generated for `ā ≡ 0` (frame origin at rest
-    /// or moving uniformly, no gravity): they ignore `ā`, so the system
-    /// refuses them where `ā` can be non-zero.
-    pub zero_frame_acceleration: bool,
+    /// The options the kernels were generated for, the scene resolved
+    /// (`Some`). Without a free frame the reference rows (`residual`,
+    /// `tangent`) do not exist and only a body whose frame motion is
+    /// prescribed can use the kernels; at rest (`ā ≡ 0`) the kernels ignore
+    /// `ā`, so the system refuses them where `ā` can be non-zero.
+    pub options: KernelOptions,
     /// Length of the coefficient array.
     pub n_coefficients: usize,
     /// Parameters the kernels read (besides the derived element length).
@@ -50,6 +42,24 @@ pub struct KernelInfo {
     /// Scratch space (f64 values) a call needs from its caller (0 for
     /// compiled kernels; registers of a tape).
     pub scratch: usize,
+}
+
+impl KernelInfo {
+    /// Scene dimension the kernels were generated for: 2 (frame motion in
+    /// the x–y plane) or 3.
+    pub fn scene_dim(&self) -> usize {
+        self.options.scene_or(self.dim).dim()
+    }
+
+    /// Whether the reference rows (`residual`, `tangent`) exist.
+    pub fn free_frame(&self) -> bool {
+        self.options.frame.is_free()
+    }
+
+    /// Whether the kernels were generated for `ā ≡ 0`.
+    pub fn zero_frame_acceleration(&self) -> bool {
+        self.options.frame.zero_frame_acceleration()
+    }
 }
 
 /// Inputs of a residual or tangent kernel.
@@ -126,13 +136,13 @@ pub trait ElementKernels: Send + Sync {
     /// `S_t` and the acceleration-linear blocks at `q`.
     fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut MassOut, scratch: &mut [f64]);
 
-    /// `f_r`, `f_θ`, `f_e` (only with `info().free_frame`).
+    /// `f_r`, `f_θ`, `f_e` (only with `info().free_frame()`).
     fn residual(&self, c: &[f64], x: &KernelInput, out: &mut ResidualOut, scratch: &mut [f64]) {
         let _ = (c, x, out, scratch);
         unreachable!("kernels of `{}` were generated without the reference rows (prescribed frame motion only)", self.info().shape)
     }
 
-    /// The residual and its derivatives (only with `info().free_frame`).
+    /// The residual and its derivatives (only with `info().free_frame()`).
     fn tangent(
         &self,
         c: &[f64],

@@ -76,16 +76,21 @@ impl<K: ElementKernels> KernelBody<K> {
         }
         let layout = BodyLayout {
             dim: info.dim,
-            scene_dim: info.scene_dim,
+            scene_dim: info.scene_dim(),
             nf: mesh.nf(),
             half_bandwidth: mesh.half_bandwidth(),
-            free_frame: info.free_frame,
-            zero_frame_acceleration: info.zero_frame_acceleration,
+            free_frame: info.free_frame(),
+            zero_frame_acceleration: info.zero_frame_acceleration(),
             labels: mesh.dofs().iter().map(|d| d.to_string()).collect(),
             length: Some(params.length),
             description: format!(
                 "{} × `{}` ({} formalism, stiffening {}, {} reference, L = {} m)",
-                elements, info.shape, info.formalism, info.stiffening, reference, params.length
+                elements,
+                info.shape,
+                info.options.formalism,
+                info.options.stiffening,
+                reference,
+                params.length
             ),
         };
         Ok(Self {

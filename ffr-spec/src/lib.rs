@@ -2,16 +2,20 @@
 //! (`ffr-runtime`): what an elastic coordinate is ([`Kind`]), how a body frame
 //! is fixed to a body ([`Reference`]), how a body of `N` equal elements numbers
 //! its elastic coordinates ([`Mesh`]), the body parameters ([`Params`]) and the
-//! model options ([`Formalism`], [`Stiffening`]).
+//! model options ([`Formalism`], [`Stiffening`], [`SceneDim`], [`FrameModel`],
+//! together [`KernelOptions`]).
 //!
-//! It has no dependencies, so that both sides use one definition of each
+//! It has no dependencies (feature `clap`: `clap::ValueEnum` for the
+//! options), so that both sides use one definition of each
 //! concept (the numbering of `q_f` in particular) without the generator
 //! depending on the runtime or the other way round.
 
+mod kernel_options;
 mod mesh;
 mod options;
 mod params;
 
+pub use kernel_options::{FrameModel, KernelOptions, SceneDim};
 pub use mesh::{Dof, ElementCoordinate, Kind, Mesh, MeshError, Reference, MAX_ELEMENTS};
 pub use options::{Formalism, Stiffening};
 pub use params::{Param, ParamError, Params};

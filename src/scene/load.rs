@@ -136,20 +136,21 @@ impl KernelProvider for GeneralKernels {
     fn kernels(&self, spec: &FlexSpec) -> crate::Result<(Box<dyn ElementKernels>, &'static str)> {
         let m = &spec.model;
         #[cfg(feature = "builtin-kernels")]
-        if let Some(k) =
-            crate::kernels::builtin(&spec.beam.shape, 3, true, m.formalism, m.stiffening)
-        {
+        if let Some(k) = crate::kernels::builtin(
+            &spec.beam.shape,
+            3,
+            true,
+            m.options.formalism,
+            m.options.stiffening,
+        ) {
             return Ok((Box::new(Kernels::Compiled(k)), "compiled, general"));
         }
         let shape = crate::codegen::Shape::resolve(&spec.beam.shape, None)?;
-        let model = crate::codegen::KernelModel {
-            scene_dim: shape.dimension.max(3),
-            shape,
-            formalism: m.formalism,
-            stiffening: m.stiffening,
-            free_frame: true,
-            zero_frame_acceleration: false,
-        };
+        let options = crate::runtime::spec::KernelOptions::new()
+            .formalism(m.options.formalism)
+            .stiffening(m.options.stiffening)
+            .scene(crate::runtime::spec::SceneDim::Spatial);
+        let model = crate::codegen::KernelModel::new(shape, options);
         let k = Kernels::Tape(Box::new(crate::runtime::tape::TapeKernels::new(&model)?));
         Ok((Box::new(k), "tape, general"))
     }
@@ -165,14 +166,7 @@ impl KernelProvider for DefaultKernels {
         }
         let shape = crate::codegen::Shape::resolve(&spec.beam.shape, None)?;
         let m = &spec.model;
-        let model = crate::codegen::KernelModel {
-            shape,
-            formalism: m.formalism,
-            stiffening: m.stiffening,
-            scene_dim: m.scene_dim,
-            free_frame: m.free_frame,
-            zero_frame_acceleration: m.zero_frame_acceleration,
-        };
+        let model = crate::codegen::KernelModel::new(shape, m.options);
         let k = Kernels::Tape(Box::new(crate::runtime::tape::TapeKernels::new(&model)?));
         let path = k.path();
         Ok((Box::new(k), path))
@@ -753,7 +747,7 @@ fn build(
                 .find(|m| &m.name == name_s)
                 .expect("every flexible body has a model")
                 .clone();
-            let stiffening = model.stiffening;
+            let stiffening = model.options.stiffening;
             let modal = modal_settings(c, name_s, rb, n as usize)?;
             let (params, given, params_span) = parse_params(c, name_s, rb, span.clone())?;
             let shape_s = shape.get_ref();
@@ -770,10 +764,7 @@ fn build(
                 stiffening,
                 scene_dim: Some(dim),
                 params,
-                frame: crate::kernels::FrameModel::from_flags(
-                    model.free_frame,
-                    model.zero_frame_acceleration,
-                ),
+                frame: model.options.frame,
                 force_tape: false,
             };
             let _ = fold;

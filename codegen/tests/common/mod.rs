@@ -8,8 +8,8 @@ use ffr_codegen::eom::OutArr;
 use ffr_codegen::poly::{Param, Poly, Sym};
 use ffr_codegen::program::{Inputs, Program, Tape};
 use ffr_codegen::{
-    generate_kernels, BodySpec, ExactInvariants, Formalism, KernelModel, KernelSet, Params,
-    Reference, Shape, Stiffening,
+    generate_kernels, BodySpec, ExactInvariants, Formalism, FrameModel, KernelModel, KernelOptions,
+    KernelSet, Params, Reference, SceneDim, Shape, Stiffening,
 };
 use ffr_reference as rf;
 use nalgebra::{DMatrix, Matrix3};
@@ -23,14 +23,15 @@ pub fn kernel_set(
     scene_dim: usize,
     free_frame: bool,
 ) -> KernelSet {
-    generate_kernels(&KernelModel {
-        shape: Shape::resolve(shape, None).unwrap(),
-        formalism,
-        stiffening,
-        scene_dim,
-        free_frame,
-        zero_frame_acceleration: false,
-    })
+    let options = KernelOptions::new()
+        .formalism(formalism)
+        .stiffening(stiffening)
+        .scene(SceneDim::from_dim(scene_dim).unwrap())
+        .frame(FrameModel::from_flags(free_frame, false));
+    generate_kernels(&KernelModel::new(
+        Shape::resolve(shape, None).unwrap(),
+        options,
+    ))
     .unwrap()
 }
 
@@ -399,7 +400,7 @@ impl<'a> TapeBody<'a> {
     pub fn new(set: &'a KernelSet, elements: usize, reference: Reference, params: Params) -> Self {
         let spec = BodySpec::new(set.model().shape.clone(), elements, reference)
             .unwrap()
-            .with_formalism(set.model().formalism);
+            .with_formalism(set.model().options.formalism);
         let l = params.elem_length(elements);
         let coef = coefficients(set, &params, l);
         let maps = (0..elements).map(|e| spec.element_map(e)).collect();
