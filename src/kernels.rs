@@ -3,7 +3,7 @@
 //! generator's programs (a shape chosen at run time), and the choice
 //! between them.
 
-use crate::runtime::spec::{Formalism, Params, Reference, Stiffening};
+use crate::runtime::spec::{Formalism, KernelOptions, Params, Reference, SceneDim, Stiffening};
 use crate::runtime::tape::TapeKernels;
 use crate::runtime::{ElementKernels, KernelBody};
 
@@ -61,18 +61,13 @@ pub struct BeamSpec {
     pub elements: usize,
     /// Reference condition.
     pub reference: Reference,
-    /// Inertia formalism.
-    pub formalism: Formalism,
-    /// Stiffening model.
-    pub stiffening: Stiffening,
-    /// Scene dimension (`None`: the shape's).
-    pub scene_dim: Option<usize>,
+    /// The kernel options: formalism, stiffening, scene (`None`: the
+    /// shape's) and frame model (free: general kernels; prescribed at rest:
+    /// kernels without reference rows and `ā` terms, which the system
+    /// refuses elsewhere).
+    pub options: KernelOptions,
     /// Parameter values.
     pub params: Params,
-    /// The frame the body moves with: free (general kernels) or prescribed
-    /// with its origin at rest and no gravity (kernels without reference
-    /// rows and `ā` terms; the system refuses them elsewhere).
-    pub frame: FrameModel,
     /// Run on tapes even if compiled kernels exist (comparisons).
     pub force_tape: bool,
 }
@@ -86,37 +81,62 @@ impl BeamSpec {
             shape: shape.to_string(),
             elements,
             reference: Reference::Clamped,
-            formalism: Formalism::Consistent,
-            stiffening: Stiffening::Off,
-            scene_dim: None,
+            options: KernelOptions::new(),
             params,
-            frame: FrameModel::Free,
             force_tape: false,
         }
+    }
+
+    /// With these kernel options.
+    pub fn options(mut self, options: KernelOptions) -> Self {
+        self.options = options;
+        self
+    }
+
+    /// With this stiffening model.
+    pub fn stiffening(mut self, s: Stiffening) -> Self {
+        self.options.stiffening = s;
+        self
+    }
+
+    /// With this inertia formalism.
+    pub fn formalism(mut self, f: Formalism) -> Self {
+        self.options.formalism = f;
+        self
+    }
+
+    /// For this scene dimension (2 or 3; any other leaves the shape's).
+    pub fn scene_dim(mut self, d: usize) -> Self {
+        self.options.scene = SceneDim::from_dim(d);
+        self
+    }
+
+    /// With this frame model.
+    pub fn frame(mut self, f: FrameModel) -> Self {
+        self.options.frame = f;
+        self
     }
 
     /// The kernels: compiled for a built-in shape, else generated and taped.
     pub fn kernels(&self) -> Result<Kernels, crate::codegen::Error> {
         let shape = crate::codegen::Shape::resolve(&self.shape, None)?;
-        let scene = self.scene_dim.unwrap_or(shape.dimension);
+        let scene = self.options.scene_or(shape.dimension);
+        let options = KernelOptions {
+            scene: Some(scene),
+            ..self.options
+        };
         #[cfg(feature = "builtin-kernels")]
         if !self.force_tape && shape.path.is_none() {
             if let Some(k) = builtin(
                 &self.shape,
-                scene,
-                self.frame != FrameModel::PrescribedAtRest,
-                self.formalism,
-                self.stiffening,
+                scene.dim(),
+                options.frame != FrameModel::PrescribedAtRest,
+                options.formalism,
+                options.stiffening,
             ) {
                 return Ok(Kernels::Compiled(k));
             }
         }
-        let options = crate::runtime::spec::KernelOptions {
-            formalism: self.formalism,
-            stiffening: self.stiffening,
-            scene: crate::runtime::spec::SceneDim::from_dim(scene),
-            frame: self.frame,
-        };
         let model = crate::codegen::KernelModel::new(shape, options);
         Ok(Kernels::Tape(Box::new(TapeKernels::new(&model)?)))
     }

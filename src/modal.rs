@@ -396,10 +396,10 @@ pub fn modal_body(beam: &BeamSpec, settings: &ModalSettings) -> crate::Result<Mo
         &beam.shape,
         beam.elements,
         beam.reference,
-        beam.formalism,
+        beam.options.formalism,
         beam.params,
     )?;
-    r.runtime_body(settings, beam.stiffening, Box::new(beam.body()?))
+    r.runtime_body(settings, beam.options.stiffening, Box::new(beam.body()?))
 }
 
 /// `quantity` is `v`: an error unless `v` is finite.

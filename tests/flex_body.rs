@@ -123,17 +123,14 @@ fn generic_struct_with_options() {
         j: V.j,
     };
     assert_eq!(<Tagged<'_, String> as CompiledBody>::NF, 12);
-    let spec = BeamSpec {
-        formalism: Formalism::Lumped,
-        stiffening: Stiffening::FourthOrder,
-        ..BeamSpec::new("beam3", 2, V)
-    };
+    let spec = BeamSpec::new("beam3", 2, V)
+        .formalism(Formalism::Lumped)
+        .stiffening(Stiffening::FourthOrder);
     check_against_generator(&body, spec.clone());
     // A different option would be a different body: the check can fail.
     let second = BeamSpec {
-        stiffening: Stiffening::SecondOrder,
         force_tape: true,
-        ..spec
+        ..spec.stiffening(Stiffening::SecondOrder)
     }
     .body()
     .unwrap();
@@ -154,10 +151,8 @@ fn planar_shape_in_a_spatial_scene() {
     let compiled = KernelBody::compiled(&body).unwrap();
     assert_eq!(compiled.layout().scene_dim, 3);
     assert_eq!(compiled.layout().dim, 2);
-    let spec = BeamSpec {
-        stiffening: Stiffening::SecondOrder,
-        scene_dim: Some(3),
-        ..BeamSpec::new("beam2", 2, V)
-    };
+    let spec = BeamSpec::new("beam2", 2, V)
+        .stiffening(Stiffening::SecondOrder)
+        .scene_dim(3);
     check_against_generator(&body, spec);
 }

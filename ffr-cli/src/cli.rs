@@ -10,7 +10,9 @@ use ffr::codegen::{generate_kernels, BodySpec, EmitOptions, Shape};
 use ffr::invariants::check_invariants;
 use ffr::kernels::BeamSpec;
 use ffr::modal::ModalSettings;
-use ffr::runtime::spec::{Formalism, Params, Reference, Stiffening};
+use ffr::runtime::spec::{
+    Formalism, FrameModel, KernelOptions, Params, Reference, SceneDim, Stiffening,
+};
 use ffr::runtime::{Body, GeneralizedAlpha, Integrator, Invariants, Rk4Baumgarte};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -63,8 +65,8 @@ pub enum Command {
     /// read (MBDyn modal .fem, SID); see docs/export.md.
     Export {
         /// Output format.
-        #[arg(long, value_parser = ["mbdyn-fem", "sid"])]
-        format: String,
+        #[arg(long)]
+        format: ExportFormat,
         #[command(flatten)]
         body: BodyArgs,
         #[command(flatten)]
@@ -113,8 +115,8 @@ pub enum Command {
         #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
         elements: Option<u16>,
         /// Reference condition of a fixed-mesh body.
-        #[arg(long, default_value = "clamped", value_parser = ["clamped", "pinned", "free"])]
-        reference: String,
+        #[arg(long, value_enum, default_value_t = Reference::Clamped)]
+        reference: Reference,
         /// Emit the specialized kernels of this scene file's flexible bodies.
         #[arg(long)]
         scene: Option<PathBuf>,
@@ -131,29 +133,36 @@ pub struct KernelArgs {
     #[arg(long, default_value = "beam3")]
     pub shape: String,
     /// Inertia formalism: consistent or lumped.
-    #[arg(long, default_value = "consistent", value_parser = ["consistent", "lumped"])]
-    pub formalism: String,
+    #[arg(long, value_enum, default_value_t = Formalism::Consistent)]
+    pub formalism: Formalism,
     /// Geometric stiffening: off, on (= fourth-order), second-order, fourth-order.
-    #[arg(long, default_value = "off", value_parser = ["off", "on", "second-order", "fourth-order"])]
-    pub stiffening: String,
+    #[arg(long, value_enum, default_value_t = Stiffening::Off)]
+    pub stiffening: Stiffening,
     /// The scene the body moves in: planar or spatial (default: the shape's).
-    #[arg(long = "scene-dim", value_parser = ["planar", "spatial"])]
-    pub scene_dim: Option<String>,
+    #[arg(long = "scene-dim", value_enum)]
+    pub scene_dim: Option<SceneDim>,
     /// Only prescribed frame motion (no reference rows).
     #[arg(long)]
     pub prescribed_frame: bool,
 }
 
 impl KernelArgs {
-    fn config(&self, name: &str) -> Result<KernelConfig, Box<dyn std::error::Error>> {
-        let mut k = KernelConfig::new(name, &self.shape)
-            .formalism(self.formalism.parse::<Formalism>()?)
-            .stiffening(self.stiffening.parse::<Stiffening>()?)
-            .free_frame(!self.prescribed_frame);
-        if let Some(d) = &self.scene_dim {
-            k = k.scene_dim(if d == "planar" { 2 } else { 3 });
+    /// The kernel options these arguments give.
+    pub fn options(&self) -> KernelOptions {
+        KernelOptions {
+            formalism: self.formalism,
+            stiffening: self.stiffening,
+            scene: self.scene_dim,
+            frame: if self.prescribed_frame {
+                FrameModel::Prescribed
+            } else {
+                FrameModel::Free
+            },
         }
-        Ok(k)
+    }
+
+    fn config(&self, name: &str) -> KernelConfig {
+        KernelConfig::new(name, &self.shape).options(self.options())
     }
 }
 
@@ -167,11 +176,11 @@ pub struct BodyArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=256))]
     pub elements: u16,
     /// Reference condition: clamped, pinned or free.
-    #[arg(long, default_value = "clamped", value_parser = ["clamped", "pinned", "free"])]
-    pub reference: String,
+    #[arg(long, value_enum, default_value_t = Reference::Clamped)]
+    pub reference: Reference,
     /// Inertia formalism: consistent or lumped.
-    #[arg(long, default_value = "consistent", value_parser = ["consistent", "lumped"])]
-    pub formalism: String,
+    #[arg(long, value_enum, default_value_t = Formalism::Consistent)]
+    pub formalism: Formalism,
     /// Run the kernels on tapes even for a built-in shape (comparisons).
     #[arg(long)]
     pub tape: bool,
@@ -229,15 +238,39 @@ impl BodyArgs {
         Ok(BeamSpec {
             shape: self.shape.clone(),
             elements: self.elements as usize,
-            reference: self.reference.parse::<Reference>()?,
-            formalism: self.formalism.parse::<Formalism>()?,
-            stiffening: Stiffening::Off,
-            scene_dim: None,
+            reference: self.reference,
+            options: KernelOptions::new().formalism(self.formalism),
             params,
-            frame: Default::default(),
             force_tape: self.tape,
         })
     }
+}
+
+/// The integrator of a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum IntegratorKind {
+    /// Implicit generalized-α (`--rho-inf`).
+    GeneralizedAlpha,
+    /// Explicit RK4 with Baumgarte stabilization.
+    Rk4,
+}
+
+/// How `--modes` reduces the spin-up beam.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ReductionKind {
+    /// The lowest clamped modes.
+    Modal,
+    /// Craig–Bampton with the tip node as boundary.
+    CraigBampton,
+}
+
+/// The file format of `ffr export`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ExportFormat {
+    /// MBDyn's modal element file (`.fem`).
+    MbdynFem,
+    /// The standard input data (SID) of flexible bodies.
+    Sid,
 }
 
 /// Options of a spin-up run.
@@ -250,11 +283,11 @@ pub struct SpinUpArgs {
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u16).range(1..=256))]
     pub elements: u16,
     /// Geometric stiffening: on (= fourth-order), off, second-order, fourth-order.
-    #[arg(long, default_value = "on", value_parser = ["on", "off", "second-order", "fourth-order"])]
-    pub stiffening: String,
+    #[arg(long, value_enum, default_value = "on")]
+    pub stiffening: Stiffening,
     /// Inertia formalism: consistent or lumped.
-    #[arg(long, default_value = "consistent", value_parser = ["consistent", "lumped"])]
-    pub formalism: String,
+    #[arg(long, value_enum, default_value_t = Formalism::Consistent)]
+    pub formalism: Formalism,
     /// The spatial model: beam3 with Euler parameters (prescribed rotation
     /// about z) instead of the planar beam2.
     #[arg(long)]
@@ -266,8 +299,8 @@ pub struct SpinUpArgs {
     #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
     pub dt: f64,
     /// Integrator: generalized-alpha or rk4.
-    #[arg(long, default_value = "generalized-alpha", value_parser = ["generalized-alpha", "rk4"])]
-    pub integrator: String,
+    #[arg(long, value_enum, default_value_t = IntegratorKind::GeneralizedAlpha)]
+    pub integrator: IntegratorKind,
     /// Generalized-α spectral radius at infinite frequency ρ∞ ∈ [0, 1].
     #[arg(long, default_value_t = 0.8, allow_hyphen_values = true)]
     pub rho_inf: f64,
@@ -288,8 +321,8 @@ pub struct SpinUpArgs {
     /// With --modes: modal truncation (the lowest clamped modes) or
     /// Craig-Bampton with the tip node as boundary (fixed-interface modes
     /// plus its static constraint modes).
-    #[arg(long, default_value = "modal", value_parser = ["modal", "craig-bampton"], requires = "modes")]
-    pub reduction: String,
+    #[arg(long, value_enum, default_value_t = ReductionKind::Modal, requires = "modes")]
+    pub reduction: ReductionKind,
     /// With --modes: leave out the static modes (the inertia loads' static
     /// responses and, with stiffening, the modal derivatives).
     #[arg(long, requires = "modes")]
@@ -346,8 +379,8 @@ impl SpinUpArgs {
         }
         let mut cfg = SpinUp::new(self.omega);
         cfg.elements = self.elements as usize;
-        cfg.stiffening = self.stiffening.parse()?;
-        cfg.formalism = self.formalism.parse()?;
+        cfg.stiffening = self.stiffening;
+        cfg.formalism = self.formalism;
         cfg.spatial = self.spatial;
         cfg.t_end = self.t_end;
         cfg.dt = self.dt;
@@ -366,7 +399,7 @@ impl SpinUpArgs {
             }
             cfg.modal = Some(ModalSettings {
                 modes: k as usize,
-                boundary: if self.reduction == "craig-bampton" {
+                boundary: if self.reduction == ReductionKind::CraigBampton {
                     vec![cfg.elements]
                 } else {
                     Vec::new()
@@ -380,25 +413,26 @@ impl SpinUpArgs {
             g: KRB.g * self.e_scale,
             ..KRB
         };
-        cfg.integrator = if self.integrator == "rk4" {
-            Integrator::Rk4(Rk4Baumgarte::default())
-        } else {
-            Integrator::GeneralizedAlpha(GeneralizedAlpha::with_rho_inf(self.rho_inf))
+        cfg.integrator = match self.integrator {
+            IntegratorKind::Rk4 => Integrator::Rk4(Rk4Baumgarte::default()),
+            IntegratorKind::GeneralizedAlpha => {
+                Integrator::GeneralizedAlpha(GeneralizedAlpha::with_rho_inf(self.rho_inf))
+            }
         };
         Ok(cfg)
     }
 
     fn tag(&self) -> String {
-        let s = match self.stiffening.as_str() {
-            "off" => "linear",
-            "second-order" => "stiff2",
-            _ => "stiff",
+        let s = match self.stiffening {
+            Stiffening::Off => "linear",
+            Stiffening::SecondOrder => "stiff2",
+            Stiffening::FourthOrder => "stiff",
         };
         let modal = match self.modes {
             None => String::new(),
             Some(k) => format!(
                 "_{}{k}{}",
-                if self.reduction == "craig-bampton" {
+                if self.reduction == ReductionKind::CraigBampton {
                     "cb"
                 } else {
                     "modes"
@@ -653,7 +687,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             check_params(&p, &used)?;
             let b = beam.body()?;
             let inv = b.invariants();
-            check_invariants(&inv, &b.layout().labels, beam.formalism)?;
+            check_invariants(&inv, &b.layout().labels, beam.options.formalism)?;
             if json {
                 crate::outln!(
                     "{}",
@@ -675,14 +709,10 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             let text = match (&scene, elements) {
                 (Some(path), _) => ffr::scene::emit::scene_file(path, &type_name)?,
                 (None, Some(n)) => {
-                    let cfg = kernel.config(&type_name)?;
+                    let cfg = kernel.config(&type_name);
                     let model = cfg.model(Path::new("."))?;
-                    let spec = BodySpec::new(
-                        model.shape.clone(),
-                        n as usize,
-                        reference.parse::<Reference>()?,
-                    )?
-                    .with_formalism(model.options.formalism);
+                    let spec = BodySpec::new(model.shape.clone(), n as usize, reference)?
+                        .with_formalism(model.options.formalism);
                     let set = generate_kernels(&model)?;
                     check_literals(&set)?;
                     ffr::codegen::emit_body_file(
@@ -695,7 +725,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                     )
                 }
                 (None, None) => {
-                    let cfg = kernel.config(&type_name)?;
+                    let cfg = kernel.config(&type_name);
                     let model = cfg.model(Path::new("."))?;
                     let set = generate_kernels(&model)?;
                     check_literals(&set)?;
@@ -719,7 +749,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             modes,
             boundary,
             out,
-        }) => crate::modes::export(&format, &body, &params, modes, &boundary, &out),
+        }) => crate::modes::export(format, &body, &params, modes, &boundary, &out),
         Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
         Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
         Some(Command::Stability(args)) => crate::stability::run(&args).map(|_| ()),

@@ -2,7 +2,7 @@
 //! (as text or the JSON of `--json`) and written in MBDyn's modal `.fem` or
 //! SID (see docs/export.md).
 
-use crate::cli::{invariants_json, BodyArgs, ParamArgs};
+use crate::cli::{invariants_json, BodyArgs, ExportFormat, ParamArgs};
 use crate::output;
 use ffr::codegen::export::{mbdyn_fem, sid, ExportBody};
 use ffr::codegen::modal::{ModalBasis, ModeKind};
@@ -26,8 +26,8 @@ pub fn reducible(body: &BodyArgs, params: &ParamArgs) -> Result<ReducibleBody, B
     Ok(ReducibleBody::from_parts(
         &body.shape,
         body.elements as usize,
-        body.reference.parse::<Reference>()?,
-        body.formalism.parse::<Formalism>()?,
+        body.reference,
+        body.formalism,
         params.values(),
     )?)
 }
@@ -143,7 +143,7 @@ fn check_export(e: &ExportBody) -> ffr::Result<()> {
 /// `ffr export`: write the body reduced as [`ReducibleBody::reduce`] says in
 /// `format` (`mbdyn-fem` or `sid`) to `out`, atomically.
 pub fn export(
-    format: &str,
+    format: ExportFormat,
     body: &BodyArgs,
     params: &ParamArgs,
     count: Option<usize>,
@@ -155,15 +155,14 @@ pub fn export(
     let basis = b.reduce(count, boundary, "--modes")?;
     let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
     check_export(&e)?;
-    let text = match format {
-        "mbdyn-fem" => mbdyn_fem(&e),
-        "sid" => sid(&e),
-        other => return Err(format!("unknown --format `{other}` (mbdyn-fem, sid)").into()),
+    let (text, name) = match format {
+        ExportFormat::MbdynFem => (mbdyn_fem(&e), "mbdyn-fem"),
+        ExportFormat::Sid => (sid(&e), "sid"),
     };
     output::write_atomic(out, text.as_bytes())?;
     crate::outln!("{}", b.description())?;
     crate::outln!(
-        "wrote {} ({format}, {} modes, {})",
+        "wrote {} ({name}, {} modes, {})",
         out.display(),
         basis.len(),
         reduction_name(&basis)

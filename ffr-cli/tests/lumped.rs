@@ -4,7 +4,7 @@
 //! of integrating NaNs (the initial projection and the index-1 solve of RK4
 //! factor the mass system `[M Φ_qᵀ; Φ_q 0]`).
 
-use ffr::runtime::spec::{Formalism, Params, Reference, Stiffening};
+use ffr::runtime::spec::{Formalism, KernelOptions, Params, Reference};
 use ffr::runtime::{Body, Error, GeneralizedAlpha, Integrator};
 use ffr::BeamSpec;
 use ffr_cli::benchmarks::pendulum;
@@ -14,9 +14,7 @@ fn lumped(shape: &str) -> BeamSpec {
         shape: shape.into(),
         elements: 4,
         reference: Reference::Clamped,
-        formalism: Formalism::Lumped,
-        stiffening: Stiffening::Off,
-        scene_dim: None,
+        options: KernelOptions::new().formalism(Formalism::Lumped),
         params: Params {
             length: 1.0,
             rho: 7850.0,
@@ -27,7 +25,6 @@ fn lumped(shape: &str) -> BeamSpec {
             g: 8.1e10,
             j: 1.4e-8,
         },
-        frame: Default::default(),
         force_tape: false,
     }
 }

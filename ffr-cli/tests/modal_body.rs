@@ -16,8 +16,8 @@ use ffr_cli::benchmarks::spin_up::KRB;
 fn beam(shape: &str, elements: usize, reference: Reference) -> BeamSpec {
     let mut b = BeamSpec::new(shape, elements, KRB);
     b.reference = reference;
-    b.stiffening = Stiffening::FourthOrder;
-    b.frame = FrameModel::Free;
+    b.options.stiffening = Stiffening::FourthOrder;
+    b.options.frame = FrameModel::Free;
     b
 }
 

@@ -91,12 +91,10 @@ fn specialized_spin_up_equals_the_general_body() {
 #[test]
 fn specialized_kernels_are_refused_where_the_frame_can_accelerate() {
     let body = || {
-        BeamSpec {
-            frame: FrameModel::PrescribedAtRest,
-            ..BeamSpec::new("beam2", 4, KRB)
-        }
-        .body()
-        .unwrap()
+        BeamSpec::new("beam2", 4, KRB)
+            .frame(FrameModel::PrescribedAtRest)
+            .body()
+            .unwrap()
     };
     // Prescribed hub at rest, but gravity.
     let mut sys = System::planar();

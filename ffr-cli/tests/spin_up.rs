@@ -64,7 +64,7 @@ fn linear_model_diverges_at_ten_rad_per_second_and_the_stiffened_one_does_not() 
     // The job reports it as an error (a non-zero exit).
     let err = spin_up(&SpinUpArgs {
         omega: 10.0,
-        stiffening: "off".into(),
+        stiffening: Stiffening::Off,
         csv: Some(temp("linear10.csv")),
         ..SpinUpArgs::default()
     })

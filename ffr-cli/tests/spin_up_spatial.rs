@@ -76,9 +76,8 @@ type Sys = (System<KernelBody<Kernels>>, KernelBody<Kernels>);
 /// The prescribed flavour with `beam2` generated for a spatial scene
 /// ([`spin_up::system`] builds `beam3` when `spatial`).
 fn prescribed_beam2_in_space(cfg: &SpinUp) -> Sys {
-    let mut spec = cfg.beam();
+    let mut spec = cfg.beam().scene_dim(3);
     spec.shape = "beam2".into();
-    spec.scene_dim = Some(3);
     let mut sys = System::spatial();
     let b = sys
         .add_body("beam", spec.body().unwrap(), Pose::identity(3))

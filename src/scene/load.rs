@@ -11,7 +11,7 @@ use crate::codegen::scene::{
 use crate::codegen::Location;
 use crate::kernels::{BeamSpec, Kernels};
 use crate::runtime::nalgebra::{Matrix3, Unit, UnitQuaternion, Vector2, Vector3};
-use crate::runtime::spec::{Formalism, Param, Params, Reference};
+use crate::runtime::spec::{Param, Params, Reference};
 use crate::runtime::{
     Body, BodyId, Driver, ElementKernels, GeneralizedAlpha, Integrator, KernelBody, Marker, Pose,
     Rayleigh, RigidBody, Rk4Baumgarte, System, TorqueLaw,
@@ -157,17 +157,11 @@ impl KernelProvider for GeneralKernels {
 }
 
 impl KernelProvider for DefaultKernels {
+    /// The beam's own kernels: its options are the scene's model (the
+    /// loader builds `spec.beam` from `spec.model`), so a shape file's tape
+    /// is generated once.
     fn kernels(&self, spec: &FlexSpec) -> crate::Result<(Box<dyn ElementKernels>, &'static str)> {
         let k: Kernels = spec.beam.kernels()?;
-        #[cfg(feature = "builtin-kernels")]
-        if let Kernels::Compiled(_) = k {
-            let path = k.path();
-            return Ok((Box::new(k), path));
-        }
-        let shape = crate::codegen::Shape::resolve(&spec.beam.shape, None)?;
-        let m = &spec.model;
-        let model = crate::codegen::KernelModel::new(shape, m.options);
-        let k = Kernels::Tape(Box::new(crate::runtime::tape::TapeKernels::new(&model)?));
         let path = k.path();
         Ok((Box::new(k), path))
     }
@@ -730,18 +724,6 @@ fn build(
                 })?,
                 None => Reference::Clamped,
             };
-            let formalism = match &rb.formalism {
-                Some(f) => f.get_ref().parse::<Formalism>().map_err(|_| {
-                    c.err(
-                        f.span(),
-                        format!(
-                            "unknown formalism `{}`: expected consistent or lumped",
-                            q(f.get_ref())
-                        ),
-                    )
-                })?,
-                None => Formalism::Consistent,
-            };
             let model = models
                 .iter()
                 .find(|m| &m.name == name_s)
@@ -760,11 +742,9 @@ fn build(
                 shape: resolved,
                 elements: n as usize,
                 reference,
-                formalism,
-                stiffening,
-                scene_dim: Some(dim),
+                // The scene's model: what it fixes, carried unchanged.
+                options: model.options,
                 params,
-                frame: model.options.frame,
                 force_tape: false,
             };
             let _ = fold;
@@ -806,7 +786,7 @@ fn build(
                         &b.shape,
                         b.elements,
                         b.reference,
-                        b.formalism,
+                        b.options.formalism,
                         b.params,
                     )
                     .and_then(|r| r.runtime_body(settings, stiffening, Box::new(kb)))

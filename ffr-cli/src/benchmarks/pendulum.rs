@@ -23,7 +23,7 @@
 use clap::{Args, ValueEnum};
 use ffr::kernels::{BeamSpec, Kernels};
 use ffr::runtime::nalgebra::Vector3;
-use ffr::runtime::spec::{Formalism, Params, Reference, Stiffening};
+use ffr::runtime::spec::{KernelOptions, Params, Reference};
 use ffr::runtime::{
     Body, BodyId, GeneralizedAlpha, Integrator, KernelBody, Marker, Pose, Rk4Baumgarte, StepView,
     System,
@@ -82,11 +82,8 @@ pub fn beam_spec(beam: Beam, elements: usize, reference: Reference, params: Para
         shape: beam.name().into(),
         elements,
         reference,
-        formalism: Formalism::Consistent,
-        stiffening: Stiffening::Off,
-        scene_dim: None,
+        options: KernelOptions::new(),
         params,
-        frame: Default::default(),
         force_tape: false,
     }
 }

@@ -11,7 +11,7 @@
 
 use ffr::kernels::{BeamSpec, FrameModel, Kernels};
 use ffr::modal::{modal_body, ModalSettings};
-use ffr::runtime::spec::{Formalism, Params, Reference, Stiffening};
+use ffr::runtime::spec::{Formalism, KernelOptions, Params, Reference, SceneDim, Stiffening};
 use ffr::runtime::{
     Driver, Error as RtError, GeneralizedAlpha, Integrator, KernelBody, ModalBody, PointShape,
     Pose, System,
@@ -91,15 +91,17 @@ impl SpinUp {
             shape: if self.spatial { "beam3" } else { "beam2" }.into(),
             elements: self.elements,
             reference: Reference::Clamped,
-            formalism: self.formalism,
-            stiffening: self.stiffening,
-            scene_dim: self.general.then_some(3),
-            params: self.params,
-            frame: if self.general {
-                FrameModel::Free
-            } else {
-                FrameModel::PrescribedAtRest
+            options: KernelOptions {
+                formalism: self.formalism,
+                stiffening: self.stiffening,
+                scene: self.general.then_some(SceneDim::Spatial),
+                frame: if self.general {
+                    FrameModel::Free
+                } else {
+                    FrameModel::PrescribedAtRest
+                },
             },
+            params: self.params,
             force_tape: self.force_tape,
         }
     }
@@ -369,9 +371,7 @@ pub fn joint_driven_system(
     cfg: &SpinUp,
 ) -> Result<(System<KernelBody<Kernels>>, Probe), Box<dyn std::error::Error>> {
     check_drive(cfg)?;
-    let mut spec = cfg.beam();
-    spec.scene_dim = Some(3);
-    spec.frame = FrameModel::Free;
+    let spec = cfg.beam().scene_dim(3).frame(FrameModel::Free);
     let body = spec.body()?;
     let probe = spec.body()?;
     let mut sys = System::spatial();

@@ -274,9 +274,9 @@ fn run_slider_crank(case: &Case) -> Result<Run, Failure> {
     }
     let (rod, init): (Box<dyn Body>, _) = match m.body {
         BodyModel::Beam => {
-            let mut spec = beam_rod(case.elements);
-            spec.formalism = m.formalism;
-            spec.stiffening = m.stiffening;
+            let mut spec = beam_rod(case.elements)
+                .formalism(m.formalism)
+                .stiffening(m.stiffening);
             spec.force_tape = m.tape;
             (Box::new(spec.body()?), beam_init(&SIMEON_INIT))
         }
@@ -332,8 +332,8 @@ fn run_pendulum(case: &Case) -> Result<Run, Failure> {
         Reference::Clamped,
         pendulum::ALUMINIUM_BAR,
     );
-    spec.formalism = m.formalism;
-    spec.stiffening = m.stiffening;
+    spec.options.formalism = m.formalism;
+    spec.options.stiffening = m.stiffening;
     spec.force_tape = m.tape;
     let (sys, b) = pendulum::scene(spec.body()?)?;
     let body = sys.body(b);
@@ -391,8 +391,8 @@ fn run_free_floating(case: &Case) -> Result<Run, Failure> {
     let q_f = &modes[0].1 * amplitude;
     let qd_f = &modes[1].1 * (amplitude * modes[1].0);
     let mut spec = free_floating::free_spec(beam, case.elements, true);
-    spec.formalism = m.formalism;
-    spec.stiffening = m.stiffening;
+    spec.options.formalism = m.formalism;
+    spec.options.stiffening = m.stiffening;
     spec.force_tape = m.tape;
     let (sys, _) = free_floating::scene(
         spec.body()?,

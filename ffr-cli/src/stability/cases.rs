@@ -681,7 +681,7 @@ fn lumped() -> Case {
         30.0,
         move |b| {
             let mut spec = beam_spec(Beam::Beam2, 4, Reference::Clamped, ALUMINIUM_BAR);
-            spec.formalism = ffr::runtime::spec::Formalism::Lumped;
+            spec.options.formalism = ffr::runtime::spec::Formalism::Lumped;
             let body = spec.body().map_err(|e| e.to_string())?;
             let (sys, _) = pendulum::scene(body).map_err(|e| e.to_string())?;
             let run = sys.simulate(0.01, 1e-3, &alpha(0.8), |v| b.tick(v.state.t));

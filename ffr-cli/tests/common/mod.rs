@@ -21,13 +21,11 @@ pub const BAR: Params = Params {
 /// the ground, a point force and a driven joint: every kind of interaction.
 pub fn mechanism(dim: usize) -> System<Box<dyn Body>> {
     let mut sys: System<Box<dyn Body>> = System::with_dim(dim);
-    let arm = BeamSpec {
-        stiffening: Stiffening::FourthOrder,
-        scene_dim: Some(dim),
-        ..BeamSpec::new(if dim == 2 { "beam2" } else { "beam3" }, 4, BAR)
-    }
-    .body()
-    .unwrap();
+    let arm = BeamSpec::new(if dim == 2 { "beam2" } else { "beam3" }, 4, BAR)
+        .stiffening(Stiffening::FourthOrder)
+        .scene_dim(dim)
+        .body()
+        .unwrap();
     let a = sys
         .add_body("arm", Box::new(arm), Pose::identity(dim))
         .unwrap();

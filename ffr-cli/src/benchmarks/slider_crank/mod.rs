@@ -20,7 +20,7 @@
 use clap::Args;
 use ffr::kernels::BeamSpec;
 use ffr::runtime::nalgebra::{Vector2, Vector3};
-use ffr::runtime::spec::{Formalism, Params, Reference, Stiffening};
+use ffr::runtime::spec::{KernelOptions, Params, Reference};
 use ffr::runtime::{
     Body, BodyId, Driver, Error as RtError, GeneralizedAlpha, Integrator, Marker, Pose, RigidBody,
     State, System,
@@ -511,11 +511,8 @@ pub fn beam_rod(elements: usize) -> BeamSpec {
         shape: "beam2".into(),
         elements,
         reference: Reference::Pinned,
-        formalism: Formalism::Consistent,
-        stiffening: Stiffening::Off,
-        scene_dim: None,
+        options: KernelOptions::new(),
         params: ROD,
-        frame: Default::default(),
         force_tape: false,
     }
 }
