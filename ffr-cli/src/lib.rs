@@ -13,7 +13,6 @@
 pub mod benchmarks;
 pub mod cli;
 pub mod clock;
-pub mod modes;
 pub mod output;
 pub mod plot;
 pub mod progress;

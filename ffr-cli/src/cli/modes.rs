@@ -2,7 +2,7 @@
 //! (as text or the JSON of `--json`) and written in MBDyn's modal `.fem` or
 //! SID (see docs/export.md).
 
-use crate::cli::{invariants_json, BodyArgs, ExportFormat, ParamArgs};
+use super::{invariants_json, BodyArgs, ExportFormat, ParamArgs};
 use crate::output;
 use ffr::codegen::export::{mbdyn_fem, sid, ExportBody};
 use ffr::codegen::modal::{ModalBasis, ModeKind};

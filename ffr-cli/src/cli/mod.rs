@@ -1,0 +1,229 @@
+//! The `ffr` command line: the commands ([`Command`]) and their dispatch
+//! ([`run`]); one file per command beside this one.
+
+mod args;
+mod invariants;
+mod modes;
+mod run;
+mod spin_up;
+
+pub use args::{BodyArgs, ExportFormat, IntegratorKind, KernelArgs, ParamArgs, ReductionKind};
+pub use invariants::invariants_json;
+pub use modes::{export, modes, modes_json, reducible};
+pub use run::{run_scene, MAX_ECHO_CHARS};
+pub use spin_up::{spin_up, SpinUpArgs};
+
+use crate::output;
+use clap::{Parser, Subcommand};
+use ffr::codegen::limits::{check_literals, check_params};
+use ffr::codegen::sanitize::check_type_name;
+use ffr::codegen::{generate_kernels, BodySpec, EmitOptions, Shape};
+use ffr::invariants::check_invariants;
+use ffr::runtime::spec::Reference;
+use ffr::runtime::Body;
+use invariants::print_summary;
+use std::path::{Path, PathBuf};
+
+/// Floating frame of reference (FFR) code generation and simulation.
+#[derive(Parser, Debug)]
+#[command(name = "ffr", version, about)]
+pub struct Cli {
+    /// What to do; without a command, the main job runs (`spin-up` with its defaults).
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// Subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Evaluate a body's invariants from its generated element kernels.
+    Invariants {
+        #[command(flatten)]
+        body: BodyArgs,
+        #[command(flatten)]
+        params: ParamArgs,
+        /// Print one JSON object (otherwise a short text summary).
+        #[arg(long)]
+        json: bool,
+    },
+    /// A body's natural frequencies by modal truncation of its exact m_ff,
+    /// K_ff (clamped/pinned: eigenmodes; free: elastic modes, rigid motions
+    /// removed), or Craig–Bampton with --boundary; see docs/modal.md.
+    Modes {
+        #[command(flatten)]
+        body: BodyArgs,
+        #[command(flatten)]
+        params: ParamArgs,
+        /// Number of modes, lowest first (default: every elastic mode; with
+        /// --boundary, every fixed-interface mode).
+        #[arg(long)]
+        count: Option<usize>,
+        /// Craig–Bampton instead of modal truncation: these body nodes
+        /// (0 to N, comma-separated) are the boundary; --count fixed-interface
+        /// modes plus one static constraint mode per boundary coordinate.
+        #[arg(long, value_delimiter = ',')]
+        boundary: Vec<usize>,
+        /// Print one JSON object with the modal matrices (otherwise the
+        /// frequencies in rad/s and Hz).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Write a body reduced to its lowest modes in a format other engines
+    /// read (MBDyn modal .fem, SID); see docs/export.md.
+    Export {
+        /// Output format.
+        #[arg(long)]
+        format: ExportFormat,
+        #[command(flatten)]
+        body: BodyArgs,
+        #[command(flatten)]
+        params: ParamArgs,
+        /// Number of modes kept (default: every elastic mode; with
+        /// --boundary, the number of fixed-interface modes, default all).
+        #[arg(long)]
+        modes: Option<usize>,
+        /// Craig–Bampton with these boundary nodes (as for `modes`).
+        #[arg(long, value_delimiter = ',')]
+        boundary: Vec<usize>,
+        /// The file to write (written to a temporary file, then renamed).
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Run the spin-up beam benchmark (the main job).
+    SpinUp(SpinUpArgs),
+    /// Work-precision report of the benchmark scenes (report.md, points.csv,
+    /// one SVG per scene; see docs/report.md).
+    Report(crate::report::ReportArgs),
+    /// Stiff and extreme cases, each with its check (stability.md; exits
+    /// non-zero if a case fails; see docs/stability.md).
+    Stability(crate::stability::StabilityArgs),
+    /// Run a scene file.
+    Run {
+        /// The scene file (TOML; see the README's "Scene files").
+        scene: PathBuf,
+        /// Where to write the outputs (default: results/SCENE.csv, SCENE the file name).
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Where to write the SVG plot (default: next to the CSV).
+        #[arg(long)]
+        svg: Option<PathBuf>,
+        /// Run every flexible body on the general kernels (spatial scene,
+        /// free frame) instead of those specialized for the scene
+        /// (comparisons).
+        #[arg(long)]
+        general: bool,
+    },
+    /// Print the generated Rust: element kernels of a shape, a body with a
+    /// fixed mesh (`--elements`), or every flexible body of a scene (`--scene`).
+    Emit {
+        #[command(flatten)]
+        kernel: KernelArgs,
+        /// Number of elements: emit a body type with this fixed mesh.
+        #[arg(long, value_parser = clap::value_parser!(u16).range(1..=256))]
+        elements: Option<u16>,
+        /// Reference condition of a fixed-mesh body.
+        #[arg(long, value_enum, default_value_t = Reference::Clamped)]
+        reference: Reference,
+        /// Emit the specialized kernels of this scene file's flexible bodies.
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Name of the generated type.
+        #[arg(long, default_value = "Body")]
+        type_name: String,
+    },
+}
+
+/// Run a parsed command line.
+pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    match cli.command {
+        Some(Command::Invariants { body, params, json }) => {
+            let p = params.values();
+            check_params(&p, &[])?;
+            let beam = body.beam(p)?;
+            let kernels = beam.kernels()?;
+            let used = ffr::runtime::ElementKernels::info(&kernels)
+                .params_used
+                .to_vec();
+            check_params(&p, &used)?;
+            let b = beam.body()?;
+            let inv = b.invariants();
+            check_invariants(&inv, &b.layout().labels, beam.options.formalism)?;
+            if json {
+                crate::outln!(
+                    "{}",
+                    serde_json::to_string(&invariants_json(&inv, &b.layout().labels))?
+                )?;
+            } else {
+                print_summary(&b.layout().description, &inv, &b.layout().labels)?;
+            }
+            Ok(())
+        }
+        Some(Command::Emit {
+            kernel,
+            elements,
+            reference,
+            scene,
+            type_name,
+        }) => {
+            check_type_name(&type_name, "--type-name")?;
+            let text = match (&scene, elements) {
+                (Some(path), _) => ffr::scene::emit::scene_file(path, &type_name)?,
+                (None, Some(n)) => {
+                    let cfg = kernel.config(&type_name);
+                    let model = cfg.model(Path::new("."))?;
+                    let spec = BodySpec::new(model.shape.clone(), n as usize, reference)?
+                        .with_formalism(model.options.formalism);
+                    let set = generate_kernels(&model)?;
+                    check_literals(&set)?;
+                    ffr::codegen::emit_body_file(
+                        &set,
+                        &spec,
+                        &EmitOptions {
+                            type_name,
+                            ..EmitOptions::default()
+                        },
+                    )
+                }
+                (None, None) => {
+                    let cfg = kernel.config(&type_name);
+                    let model = cfg.model(Path::new("."))?;
+                    let set = generate_kernels(&model)?;
+                    check_literals(&set)?;
+                    ffr::codegen::emit_kernels_file(&set, &type_name, "::ffr::runtime")
+                }
+            };
+            output::print(&text)?;
+            Ok(())
+        }
+        Some(Command::Modes {
+            body,
+            params,
+            count,
+            boundary,
+            json,
+        }) => modes(&body, &params, count, &boundary, json),
+        Some(Command::Export {
+            format,
+            body,
+            params,
+            modes,
+            boundary,
+            out,
+        }) => export(format, &body, &params, modes, &boundary, &out),
+        Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
+        Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
+        Some(Command::Stability(args)) => crate::stability::run(&args).map(|_| ()),
+        Some(Command::Run {
+            scene,
+            csv,
+            svg,
+            general,
+        }) => run_scene(&scene, &csv, &svg, general).map(|_| ()),
+        None => spin_up(&SpinUpArgs::default()).map(|_| ()),
+    }
+}
+
+/// Whether `s` names a built-in shape.
+pub fn is_builtin_shape(s: &str) -> bool {
+    Shape::builtin(s).is_some()
+}
