@@ -1,6 +1,6 @@
 //! Running a scene: the outputs recorded at every step.
 
-use super::load::{EnergyPart, OutputKind, Scene};
+use super::model::{EnergyPart, OutputKind, Scene};
 use crate::runtime::marker::MarkerKin;
 use std::ops::ControlFlow;
 

@@ -1,0 +1,106 @@
+//! `[[outputs]]`: positions, deflections, velocities, angles and energies
+//! recorded at every step.
+
+use super::markers::Markers;
+use super::Ctx;
+use crate::codegen::scene::quoted as q;
+use crate::codegen::scene::RawOutput;
+use crate::runtime::nalgebra::Vector3;
+use crate::runtime::{Body, Marker, System};
+use crate::scene::SceneError;
+use crate::scene::{EnergyPart, Output, OutputKind};
+
+pub(super) fn output(
+    c: &Ctx,
+    b: &Markers,
+    sys: &System<Box<dyn Body>>,
+    o: &RawOutput,
+) -> Result<Output, SceneError> {
+    let r = o;
+    let name = r.name.get_ref().clone();
+    if name.is_empty()
+        || name
+            .chars()
+            .any(|ch| ch == ',' || ch == '"' || ch.is_control())
+    {
+        return Err(c.err(r.name.span(), "an output name must be non-empty without commas, quotes or control characters (it is a CSV column)"));
+    }
+    let comp = |dflt: Option<usize>| -> Result<usize, SceneError> {
+        match &r.component {
+            None => dflt.ok_or_else(|| {
+                c.err(
+                    o.span(),
+                    format!(
+                        "output `{}` needs `component = \"x\"`, `\"y\"`{}",
+                        q(&name),
+                        if b.dim == 3 { " or `\"z\"`" } else { "" }
+                    ),
+                )
+            }),
+            Some(s) => match s.get_ref().as_str() {
+                "x" => Ok(0),
+                "y" => Ok(1),
+                "z" if b.dim == 3 => Ok(2),
+                other => Err(c.err(
+                    s.span(),
+                    format!(
+                        "`component` is x, y{} — found `{other}`",
+                        if b.dim == 3 { " or z" } else { "" },
+                        other = q(other)
+                    ),
+                )),
+            },
+        }
+    };
+    let at = || {
+        r.at.as_ref().ok_or_else(|| {
+            c.err(
+                o.span(),
+                format!("output `{}` needs `at = \"MARKER\"`", q(&name)),
+            )
+        })
+    };
+    let kind = match r.kind.get_ref().as_str() {
+        "position" => OutputKind::Position(comp(None)?),
+        "deflection" => OutputKind::Deflection(comp(None)?),
+        "velocity" => OutputKind::Velocity(comp(None)?),
+        "angle" => OutputKind::Angle,
+        "energy" => {
+            let part = match r.component.as_ref().map(|s| s.get_ref().as_str()) {
+                None | Some("total") => EnergyPart::Total,
+                Some("kinetic") => EnergyPart::Kinetic,
+                Some("elastic") => EnergyPart::Elastic,
+                Some("gravity") => EnergyPart::Gravity,
+                Some("springs") => EnergyPart::Springs,
+                Some("work") => EnergyPart::Work,
+                Some("dissipated") => EnergyPart::Dissipated,
+                Some(other) => return Err(c.err(r.component.as_ref().expect("some").span(), format!("energy `component` is total, kinetic, elastic, gravity, springs, work or dissipated — found `{other}`", other = q(other)))),
+            };
+            return Ok(Output { name, kind: OutputKind::Energy(part), marker: Marker::ground(Vector3::zeros()), relative_to: None });
+        }
+        other => return Err(c.err(r.kind.span(), format!("unknown output kind `{other}`: expected position, deflection, angle, velocity or energy", other = q(other)))),
+    };
+    let marker = b.marker(sys, at()?)?;
+    if matches!(kind, OutputKind::Deflection(_)) && marker.body.is_none() {
+        return Err(c.err(
+            at()?.span(),
+            "a deflection is measured on a body, not on the ground",
+        ));
+    }
+    let relative_to = match &r.a {
+        Some(a) if kind == OutputKind::Angle => Some(b.marker(sys, a)?),
+        Some(a) => {
+            return Err(c.err(
+                a.span(),
+                "`a` (a reference marker) is only for angle outputs",
+            ))
+        }
+        None => None,
+    };
+    Ok(Output {
+        name,
+        kind,
+        marker,
+        relative_to,
+    })
+}
