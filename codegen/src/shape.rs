@@ -155,7 +155,10 @@ impl Shape {
         }
         let raw: RawShape = toml::from_str(text).map_err(|e| {
             let offset = e.span().map_or(text.len(), |s| s.start);
-            at(offset, toml_message(e.message(), text, offset))
+            at(
+                offset,
+                toml_message(&parser_message(&e, text), text, offset),
+            )
         })?;
         let name = raw.name.get_ref();
         check_name(name, "shape name", MAX_SHAPE_NAME_CHARS).map_err(|(i, m)| {
@@ -427,6 +430,19 @@ fn read_source(path: &Path) -> Result<String, Error> {
     })
 }
 
+/// The TOML parser's message, with the key named where it says only
+/// `duplicate key` (its span is the repeated key).
+pub(crate) fn parser_message(e: &toml::de::Error, text: &str) -> String {
+    let m = e.message().trim();
+    let key = e.span().and_then(|s| text.get(s)).map(str::trim);
+    match key {
+        Some(k) if m == "duplicate key" && !k.is_empty() => {
+            format!("duplicate key `{}`", snippet(k, 64))
+        }
+        _ => m.to_string(),
+    }
+}
+
 /// The TOML parser's message, completed where it is empty or says only
 /// that the input ended.
 fn toml_message(message: &str, text: &str, offset: usize) -> String {
@@ -440,7 +456,7 @@ fn toml_message(message: &str, text: &str, offset: usize) -> String {
     let at_end = text
         .get(offset..)
         .map_or(true, |rest| rest.trim().is_empty());
-    if m.contains("recursion limit exceeded") {
+    if m.contains("recursion") {
         return format!("{m}: arrays or tables nest too deeply");
     }
     if m.is_empty() {
