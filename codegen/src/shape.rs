@@ -77,8 +77,11 @@ struct RawShape {
     dimension: Spanned<i64>,
     description: String,
     coordinates: Spanned<Vec<RawCoordinate>>,
-    s: Spanned<BTreeMap<Spanned<String>, Spanned<Vec<Spanned<String>>>>>,
+    s: Spanned<RawRows>,
 }
+
+/// The rows of `S` as written: by row name, the entries of each.
+type RawRows = BTreeMap<Spanned<String>, Spanned<Vec<Spanned<String>>>>;
 
 /// One entry of `coordinates` as written.
 struct RawCoordinate {
@@ -152,9 +155,6 @@ impl RawCoordinate {
         })
     }
 }
-
-/// The rows of `S` as written.
-type RawRows = BTreeMap<Spanned<String>, Spanned<Vec<Spanned<String>>>>;
 
 /// The table `S`: rows by name, each an array of strings.
 fn rows(value: &Value<'_>) -> Result<Spanned<RawRows>, Refusal> {
