@@ -179,7 +179,11 @@ impl BodyConfig {
 enum Entry {
     Body(BodyConfig),
     Kernels(KernelConfig),
-    Scene { name: String, path: String },
+    #[cfg(feature = "scene")]
+    Scene {
+        name: String,
+        path: String,
+    },
 }
 
 impl Entry {
@@ -187,6 +191,7 @@ impl Entry {
         match self {
             Entry::Body(b) => &b.kernels.name,
             Entry::Kernels(k) => &k.name,
+            #[cfg(feature = "scene")]
             Entry::Scene { name, .. } => name,
         }
     }
@@ -202,6 +207,7 @@ impl Entry {
             Entry::Body(BodyConfig { kernels: k, .. }) | Entry::Kernels(k) => {
                 shape_file(&k.shape, base).into_iter().collect()
             }
+            #[cfg(feature = "scene")]
             Entry::Scene { path, .. } => {
                 let file = base.join(path);
                 let dir = file.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -312,6 +318,7 @@ impl Builder {
     /// stem plus `Scene`, e.g. `ArmScene` for `scenes/arm.toml`, in
     /// `arm.rs`) whose `load()` builds the scene from the embedded file with
     /// these kernels: it simulates bit for bit like `ffr run` on the file.
+    #[cfg(feature = "scene")]
     pub fn scene(self, path: impl AsRef<str>) -> Self {
         let p = path.as_ref().to_string();
         let stem = Path::new(&p)
@@ -324,6 +331,7 @@ impl Builder {
 
     /// [`Builder::scene`] with an explicit name (file `<name>.rs`, type
     /// CamelCase of `name` plus `Scene`).
+    #[cfg(feature = "scene")]
     pub fn scene_named(mut self, name: &str, path: impl AsRef<str>) -> Self {
         self.entries.push(Entry::Scene {
             name: name.to_string(),
@@ -409,6 +417,7 @@ impl Builder {
                     check_literals(&set)?;
                     emit_kernels_file(&set, &type_name, &self.runtime_path)
                 }
+                #[cfg(feature = "scene")]
                 Entry::Scene { path, .. } => crate::emit::emit_scene_file(
                     &base.join(path),
                     path,

@@ -671,6 +671,7 @@ pub fn emit_body_file(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> S
 /// text with these kernels (`ffr::scene::from_str`). `origin` names the file
 /// as written (headers, errors); `path` is where to read it. The runtime
 /// path must end in `::runtime` (its parent is the `ffr` crate).
+#[cfg(feature = "scene")]
 pub fn emit_scene_file(
     path: &std::path::Path,
     origin: &str,

@@ -31,6 +31,7 @@ pub mod modal;
 pub mod poly;
 pub mod program;
 pub mod sanitize;
+#[cfg(feature = "scene")]
 pub mod scene;
 pub mod shape;
 

@@ -259,7 +259,7 @@ pub const MAX_SCENE_BYTES: u64 = 1 << 20;
 pub fn parse(text: &str, file: &str) -> Result<RawScene, Error> {
     toml::from_str(text).map_err(|e| {
         let offset = e.span().map_or(0, |s| s.start);
-        let msg = shorten_quoted(e.message().trim());
+        let msg = shorten_quoted(&crate::shape::parser_message(&e, text));
         Error::Scene {
             location: Location::of(file, text, offset),
             message: if msg.is_empty() {

@@ -21,9 +21,10 @@ use crate::limits::{
 };
 use crate::poly::{Poly, Sym};
 use crate::sanitize::{check_name, snippet};
-use serde::Deserialize;
 use std::collections::BTreeMap;
+use std::num::IntErrorKind;
 use std::path::Path;
+use toml::de::{DeArray, DeInteger, DeString, DeTable, DeValue};
 use toml::Spanned;
 
 pub use ffr_spec::Kind;
@@ -70,24 +71,201 @@ pub fn builtin_names() -> Vec<&'static str> {
     BUILTINS.iter().map(|(n, _)| *n).collect()
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+/// A shape file as written: every value keeps its span for the errors.
 struct RawShape {
     name: Spanned<String>,
     dimension: Spanned<i64>,
-    #[serde(default)]
     description: String,
     coordinates: Spanned<Vec<RawCoordinate>>,
-    #[serde(rename = "S")]
-    s: Spanned<BTreeMap<Spanned<String>, Spanned<Vec<Spanned<String>>>>>,
+    s: Spanned<RawRows>,
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+/// The rows of `S` as written: by row name, the entries of each.
+type RawRows = BTreeMap<Spanned<String>, Spanned<Vec<Spanned<String>>>>;
+
+/// One entry of `coordinates` as written.
 struct RawCoordinate {
     name: Spanned<String>,
     node: Spanned<i64>,
     kind: Spanned<String>,
+}
+
+/// A refusal while reading the document: where (byte offset) and what.
+type Refusal = (usize, String);
+
+/// A TOML value with its span, as the parser gives it.
+type Value<'i> = Spanned<DeValue<'i>>;
+
+impl RawShape {
+    const FIELDS: &'static [&'static str] =
+        &["name", "dimension", "description", "coordinates", "S"];
+
+    /// The shape's fields from the document's top table: unknown keys are
+    /// refused, `description` may be left out.
+    fn read(doc: &Spanned<DeTable<'_>>) -> Result<RawShape, Refusal> {
+        let (mut name, mut dimension, mut description, mut coordinates, mut s) =
+            (None, None, None, None, None);
+        for (key, value) in in_document_order(doc.get_ref()) {
+            match key.get_ref().as_ref() {
+                "name" => name = Some(string(value)?),
+                "dimension" => dimension = Some(integer(value)?),
+                "description" => description = Some(string(value)?.into_inner()),
+                "coordinates" => {
+                    let items = array(value, "a sequence")?;
+                    let read: Result<Vec<_>, _> = items.iter().map(RawCoordinate::read).collect();
+                    coordinates = Some(Spanned::new(value.span(), read?));
+                }
+                "S" => s = Some(rows(value)?),
+                _ => return Err(unknown_field(key, Self::FIELDS)),
+            }
+        }
+        let at = doc.span().start;
+        Ok(RawShape {
+            name: name.ok_or_else(|| missing_field(at, "name"))?,
+            dimension: dimension.ok_or_else(|| missing_field(at, "dimension"))?,
+            description: description.unwrap_or_default(),
+            coordinates: coordinates.ok_or_else(|| missing_field(at, "coordinates"))?,
+            s: s.ok_or_else(|| missing_field(at, "S"))?,
+        })
+    }
+}
+
+impl RawCoordinate {
+    const FIELDS: &'static [&'static str] = &["name", "node", "kind"];
+
+    /// A coordinate from its (inline) table.
+    fn read(value: &Value<'_>) -> Result<RawCoordinate, Refusal> {
+        let DeValue::Table(table) = value.get_ref() else {
+            return Err(invalid_type(value, "struct RawCoordinate"));
+        };
+        let (mut name, mut node, mut kind) = (None, None, None);
+        for (key, value) in in_document_order(table) {
+            match key.get_ref().as_ref() {
+                "name" => name = Some(string(value)?),
+                "node" => node = Some(integer(value)?),
+                "kind" => kind = Some(string(value)?),
+                _ => return Err(unknown_field(key, Self::FIELDS)),
+            }
+        }
+        let at = value.span().start;
+        Ok(RawCoordinate {
+            name: name.ok_or_else(|| missing_field(at, "name"))?,
+            node: node.ok_or_else(|| missing_field(at, "node"))?,
+            kind: kind.ok_or_else(|| missing_field(at, "kind"))?,
+        })
+    }
+}
+
+/// The table `S`: rows by name, each an array of strings.
+fn rows(value: &Value<'_>) -> Result<Spanned<RawRows>, Refusal> {
+    let DeValue::Table(table) = value.get_ref() else {
+        return Err(invalid_type(value, "a map"));
+    };
+    let mut rows = BTreeMap::new();
+    for (key, row) in in_document_order(table) {
+        let entries: Result<Vec<_>, _> = array(row, "a sequence")?.iter().map(string).collect();
+        rows.insert(
+            Spanned::new(key.span(), key.get_ref().to_string()),
+            Spanned::new(row.span(), entries?),
+        );
+    }
+    Ok(Spanned::new(value.span(), rows))
+}
+
+/// A table's entries in the order they appear in the file (so the first
+/// refusal is the first in the file).
+fn in_document_order<'a, 'i>(
+    table: &'a DeTable<'i>,
+) -> Vec<(&'a Spanned<DeString<'i>>, &'a Value<'i>)> {
+    let mut entries: Vec<_> = table.iter().collect();
+    entries.sort_by_key(|(key, _)| key.span().start);
+    entries
+}
+
+/// A string value.
+fn string(value: &Value<'_>) -> Result<Spanned<String>, Refusal> {
+    match value.get_ref() {
+        DeValue::String(s) => Ok(Spanned::new(value.span(), s.to_string())),
+        _ => Err(invalid_type(value, "a string")),
+    }
+}
+
+/// An integer value that fits `i64`.
+fn integer(value: &Value<'_>) -> Result<Spanned<i64>, Refusal> {
+    match value.get_ref() {
+        DeValue::Integer(i) => Ok(Spanned::new(value.span(), to_i64(value, i)?)),
+        _ => Err(invalid_type(value, "i64")),
+    }
+}
+
+/// An array value (`expected` names it in the refusal).
+fn array<'a, 'i>(value: &'a Value<'i>, expected: &str) -> Result<&'a DeArray<'i>, Refusal> {
+    match value.get_ref() {
+        DeValue::Array(a) => Ok(a),
+        _ => Err(invalid_type(value, expected)),
+    }
+}
+
+/// The integer's value, refused when it does not fit `i64` (or has no
+/// digits: toml takes `0x` for an integer).
+fn to_i64(value: &Value<'_>, i: &DeInteger<'_>) -> Result<i64, Refusal> {
+    i64::from_str_radix(i.as_str(), i.radix()).map_err(|e| {
+        let message = match e.kind() {
+            IntErrorKind::PosOverflow | IntErrorKind::NegOverflow => {
+                "number too large to fit in target type".to_string()
+            }
+            _ => format!("invalid integer `{i}`"),
+        };
+        (value.span().start, message)
+    })
+}
+
+/// ``invalid type: integer `3`, expected a string``, at the value.
+fn invalid_type(value: &Value<'_>, expected: &str) -> Refusal {
+    let found = match value.get_ref() {
+        DeValue::String(s) => format!("string {s:?}"),
+        DeValue::Integer(i) => match to_i64(value, i) {
+            Ok(n) => format!("integer `{n}`"),
+            Err(refusal) => return refusal,
+        },
+        DeValue::Float(f) => format!("floating point `{}`", float_text(f.as_str())),
+        DeValue::Boolean(b) => format!("boolean `{b}`"),
+        DeValue::Datetime(d) => format!("datetime `{d}`"),
+        DeValue::Array(_) => "sequence".to_string(),
+        DeValue::Table(_) => "map".to_string(),
+    };
+    (
+        value.span().start,
+        format!("invalid type: {found}, expected {expected}"),
+    )
+}
+
+/// A float as Rust prints it, with a decimal point when finite (`2.0`,
+/// `1.5`, `inf`, `NaN`).
+fn float_text(text: &str) -> String {
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x.fract() == 0.0 => format!("{x}.0"),
+        Ok(x) => x.to_string(),
+        Err(_) => text.to_string(),
+    }
+}
+
+/// ``unknown field `colour`, expected one of `name`, …``, at the key.
+fn unknown_field(key: &Spanned<DeString<'_>>, fields: &[&str]) -> Refusal {
+    let one_of: Vec<String> = fields.iter().map(|f| format!("`{f}`")).collect();
+    (
+        key.span().start,
+        format!(
+            "unknown field `{}`, expected one of {}",
+            key.get_ref(),
+            one_of.join(", ")
+        ),
+    )
+}
+
+/// ``missing field `name` `` at the start of the table that lacks it.
+fn missing_field(at: usize, field: &str) -> Refusal {
+    (at, format!("missing field `{field}`"))
 }
 
 /// FNV-1a, 64 bit: a stable hash of a shape's text for generated headers.
@@ -153,10 +331,15 @@ impl Shape {
                 ),
             ));
         }
-        let raw: RawShape = toml::from_str(text).map_err(|e| {
+        let doc = DeTable::parse(text).map_err(|e| {
             let offset = e.span().map_or(text.len(), |s| s.start);
-            at(offset, toml_message(e.message(), text, offset))
+            at(
+                offset,
+                toml_message(&parser_message(&e, text), text, offset),
+            )
         })?;
+        let raw = RawShape::read(&doc)
+            .map_err(|(offset, message)| at(offset, toml_message(&message, text, offset)))?;
         let name = raw.name.get_ref();
         check_name(name, "shape name", MAX_SHAPE_NAME_CHARS).map_err(|(i, m)| {
             at(
@@ -427,6 +610,19 @@ fn read_source(path: &Path) -> Result<String, Error> {
     })
 }
 
+/// The TOML parser's message, with the key named where it says only
+/// `duplicate key` (its span is the repeated key).
+pub(crate) fn parser_message(e: &toml::de::Error, text: &str) -> String {
+    let m = e.message().trim();
+    let key = e.span().and_then(|s| text.get(s)).map(str::trim);
+    match key {
+        Some(k) if m == "duplicate key" && !k.is_empty() => {
+            format!("duplicate key `{}`", snippet(k, 64))
+        }
+        _ => m.to_string(),
+    }
+}
+
 /// The TOML parser's message, completed where it is empty or says only
 /// that the input ended.
 fn toml_message(message: &str, text: &str, offset: usize) -> String {
@@ -440,7 +636,7 @@ fn toml_message(message: &str, text: &str, offset: usize) -> String {
     let at_end = text
         .get(offset..)
         .map_or(true, |rest| rest.trim().is_empty());
-    if m.contains("recursion limit exceeded") {
+    if m.contains("recursion") {
         return format!("{m}: arrays or tables nest too deeply");
     }
     if m.is_empty() {
@@ -522,5 +718,113 @@ fn string_content_offset(text: &str, start: usize, content: &str) -> usize {
         body
     } else {
         start
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const BAR: &str = "name = \"bar\"\ndimension = 2\ncoordinates = [\n  { name = \"u1\", node = 0, kind = \"ux\" },\n  { name = \"u2\", node = 1, kind = \"ux\" },\n]\n[S]\nx = [\"1 - xi\", \"xi\"]\ny = [\"0\", \"0\"]\n";
+
+    /// The error for `BAR` with `from` replaced by `to`.
+    fn refused(from: &str, to: &str) -> String {
+        assert!(BAR.contains(from), "test setup: `{from}`");
+        match Shape::parse(&BAR.replacen(from, to, 1), "bar.toml") {
+            Ok(_) => panic!("`{to}` was accepted"),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    #[test]
+    fn wrong_types_are_named_at_the_value() {
+        let cases = [
+            (
+                "name = \"bar\"",
+                "name = 3",
+                "bar.toml:1:8: invalid type: integer `3`, expected a string",
+            ),
+            (
+                "dimension = 2",
+                "dimension = 2.0",
+                "bar.toml:2:13: invalid type: floating point `2.0`, expected i64",
+            ),
+            (
+                "dimension = 2",
+                "dimension = \"2\"",
+                "bar.toml:2:13: invalid type: string \"2\", expected i64",
+            ),
+            (
+                "dimension = 2",
+                "dimension = 99999999999999999999",
+                "bar.toml:2:13: number too large to fit in target type",
+            ),
+            (
+                "node = 0,",
+                "node = 0x,",
+                "bar.toml:4:25: invalid integer `0x`",
+            ),
+            (
+                "node = 0,",
+                "node = true,",
+                "bar.toml:4:25: invalid type: boolean `true`, expected i64",
+            ),
+            (
+                "coordinates = [",
+                "coordinates = 3\nc = [",
+                "bar.toml:3:15: invalid type: integer `3`, expected a sequence",
+            ),
+            (
+                "{ name = \"u1\", node = 0, kind = \"ux\" }",
+                "[\"u1\", 0, \"ux\"]",
+                "bar.toml:4:3: invalid type: sequence, expected struct RawCoordinate",
+            ),
+            (
+                "[S]\n",
+                "S = [1]\n[T]\n",
+                "bar.toml:7:5: invalid type: sequence, expected a map",
+            ),
+            (
+                "x = [\"1 - xi\", \"xi\"]",
+                "x = \"xi\"",
+                "bar.toml:8:5: invalid type: string \"xi\", expected a sequence",
+            ),
+            (
+                "x = [\"1 - xi\", \"xi\"]",
+                "x = [\"1 - xi\", 1979-05-27]",
+                "bar.toml:8:16: invalid type: datetime `1979-05-27`, expected a string",
+            ),
+        ];
+        for (from, to, want) in cases {
+            assert_eq!(refused(from, to), want);
+        }
+    }
+
+    #[test]
+    fn unknown_and_missing_fields_are_refused_where_they_are() {
+        assert_eq!(
+            refused("dimension = 2", "dimension = 2\ncolour = 3"),
+            "bar.toml:3:1: unknown field `colour`, expected one of `name`, `dimension`, `description`, `coordinates`, `S`"
+        );
+        assert_eq!(
+            refused("kind = \"ux\" }", "kind = \"ux\", mass = 1 }"),
+            "bar.toml:4:41: unknown field `mass`, expected one of `name`, `node`, `kind`"
+        );
+        assert_eq!(
+            refused(", kind = \"ux\" }", " }"),
+            "bar.toml:4:3: missing field `kind`"
+        );
+        assert_eq!(refused("[S]\nx", "[T]\nx"), "bar.toml:7:2: unknown field `T`, expected one of `name`, `dimension`, `description`, `coordinates`, `S`");
+        assert_eq!(
+            refused("name = \"bar\"\n", ""),
+            "bar.toml:1:1: missing field `name`"
+        );
+    }
+
+    #[test]
+    fn the_first_refusal_in_the_file_is_reported() {
+        // `zeta` sorts after `name`, but comes first in the file.
+        let e = refused("name = \"bar\"", "zeta = 1\nname = 3");
+        assert!(e.starts_with("bar.toml:1:1: unknown field `zeta`"), "{e}");
     }
 }
