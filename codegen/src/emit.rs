@@ -584,7 +584,11 @@ fn format(items: &str) -> String {
     prettyplease::unparse(&file).replace("/// operations: ", "// operations: ")
 }
 
-fn header(set: &KernelSet, what: &str) -> String {
+/// The header of every generated file: the banner, what the file defines,
+/// then for each kernel set (under its title, if any) its input, element
+/// coordinates, coefficients, operation counts and what its model leaves
+/// out, then `extra` lines.
+fn header(what: &str, sets: &[(Option<String>, &KernelSet)], extra: &[String]) -> String {
     let mut h = String::new();
     writeln!(
         h,
@@ -593,44 +597,56 @@ fn header(set: &KernelSet, what: &str) -> String {
     )
     .unwrap();
     writeln!(h, "// {what}").unwrap();
-    writeln!(h, "// Input: {}.", describe(set)).unwrap();
-    let coords: Vec<String> = set
-        .model()
-        .shape
-        .coordinates
-        .iter()
-        .map(|c| format!("{}_{}", c.kind, c.node))
-        .collect();
-    writeln!(
-        h,
-        "// Element coordinates ({}): {}.",
-        coords.len(),
-        coords.join(" ")
-    )
-    .unwrap();
-    writeln!(
-        h,
-        "// Coefficients: {} (computed once per body).",
-        set.coefficients.len()
-    )
-    .unwrap();
-    writeln!(h, "// Operations per call:").unwrap();
-    writeln!(
-        h,
-        "//   {:<20} {}",
-        "coefficients",
-        set.coefficient_program.ops()
-    )
-    .unwrap();
-    for (name, p) in set.programs() {
-        writeln!(h, "//   {name:<20} {}", p.ops()).unwrap();
-    }
-    let omitted = omissions(set);
-    if !omitted.is_empty() {
-        writeln!(h, "// Left out:").unwrap();
-        for o in omitted {
-            writeln!(h, "//   - {o}").unwrap();
+    for (title, set) in sets {
+        let ind = match title {
+            Some(t) => {
+                writeln!(h, "// {t}").unwrap();
+                "  "
+            }
+            None => "",
+        };
+        writeln!(h, "// {ind}Input: {}.", describe(set)).unwrap();
+        let coords: Vec<String> = set
+            .model()
+            .shape
+            .coordinates
+            .iter()
+            .map(|c| format!("{}_{}", c.kind, c.node))
+            .collect();
+        writeln!(
+            h,
+            "// {ind}Element coordinates ({}): {}.",
+            coords.len(),
+            coords.join(" ")
+        )
+        .unwrap();
+        writeln!(
+            h,
+            "// {ind}Coefficients: {} (computed once per body).",
+            set.coefficients.len()
+        )
+        .unwrap();
+        writeln!(h, "// {ind}Operations per call:").unwrap();
+        writeln!(
+            h,
+            "// {ind}  {:<20} {}",
+            "coefficients",
+            set.coefficient_program.ops()
+        )
+        .unwrap();
+        for (name, p) in set.programs() {
+            writeln!(h, "// {ind}  {name:<20} {}", p.ops()).unwrap();
         }
+        let omitted = omissions(set);
+        if !omitted.is_empty() {
+            writeln!(h, "// {ind}Left out:").unwrap();
+            for o in omitted {
+                writeln!(h, "// {ind}  - {o}").unwrap();
+            }
+        }
+    }
+    for line in extra {
+        writeln!(h, "// {line}").unwrap();
     }
     h.push('\n');
     h
@@ -638,15 +654,22 @@ fn header(set: &KernelSet, what: &str) -> String {
 
 /// A complete, formatted file with the kernel type `kernels_type`.
 pub fn emit_kernels_file(set: &KernelSet, kernels_type: &str, runtime_path: &str) -> String {
-    header(set, &format!("Element kernels `{kernels_type}`."))
-        + &format(&kernel_items(set, kernels_type, runtime_path))
+    header(
+        &format!("Element kernels `{kernels_type}`."),
+        &[(None, set)],
+        &[],
+    ) + &format(&kernel_items(set, kernels_type, runtime_path))
 }
 
 /// A complete, formatted file for one body with a fixed mesh.
 pub fn emit_body_file(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> String {
     let dofs: Vec<String> = spec.dofs().iter().map(|d| d.to_string()).collect();
-    let mut h = header(
-        set,
+    let mut extra = vec!["Elastic coordinates, in this order:".to_string()];
+    extra.extend(
+        dofs.chunks(12)
+            .map(|chunk| format!("  {}", chunk.join(" "))),
+    );
+    let h = header(
         &format!(
             "Body `{}`: {} element{}, {} reference, {} elastic coordinates.",
             opts.type_name,
@@ -655,90 +678,64 @@ pub fn emit_body_file(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> S
             spec.reference,
             dofs.len()
         ),
+        &[(None, set)],
+        &extra,
     );
-    h.pop();
-    writeln!(h, "// Elastic coordinates, in this order:").unwrap();
-    for chunk in dofs.chunks(12) {
-        writeln!(h, "//   {}", chunk.join(" ")).unwrap();
-    }
-    h.push('\n');
     h + &format(&body_items(set, spec, opts))
+}
+
+/// A scene file and the kernels of its flexible bodies, ready to emit
+/// (read, checked and generated by [`crate::builder::generate_scene`]).
+#[derive(Clone, Debug)]
+pub struct SceneKernels<'a> {
+    /// The file as it was named (headers, errors).
+    pub origin: &'a str,
+    /// Its text (embedded in the generated type).
+    pub text: &'a str,
+    /// Each flexible body's name and kernel set, in body-name order.
+    pub bodies: Vec<(String, KernelSet)>,
 }
 
 /// The compiled form of a scene file: the specialized kernels of each of its
 /// flexible bodies (`{Type}{Body}Kernels`), a kernel provider and the scene
 /// type `type_name` whose `load()` builds the scene from the embedded file
-/// text with these kernels (`ffr::scene::from_str`). `origin` names the file
-/// as written (headers, errors); `path` is where to read it. The runtime
-/// path must end in `::runtime` (its parent is the `ffr` crate).
+/// text with these kernels (`ffr::scene::from_str`). The runtime path must
+/// end in `::runtime` (its parent is the `ffr` crate).
 pub fn emit_scene_file(
-    path: &std::path::Path,
-    origin: &str,
+    scene: &SceneKernels,
     type_name: &str,
     runtime_path: &str,
 ) -> Result<String, crate::error::Error> {
-    use crate::kernel::generate_kernels;
-    use crate::limits::check_literals;
-    let text = crate::scene::read(path)?;
-    let raw = crate::scene::parse(&text, origin)?;
-    crate::scene::check(&raw, &text, origin)?;
-    let models = crate::scene::flex_models(&raw, &text, origin)?;
     let root = runtime_path.strip_suffix("::runtime").ok_or_else(|| {
         crate::error::Error::Body(format!(
             "a compiled scene needs the runtime path of the `ffr` crate (`…::runtime`), found `{runtime_path}`"
         ))
     })?;
-    let dir = path
-        .parent()
-        .map(std::path::Path::to_path_buf)
-        .unwrap_or_default();
+    let (origin, text) = (scene.origin, scene.text);
     let mut items = String::new();
-    let mut header = String::new();
-    writeln!(
-        header,
-        "// @generated by ffr-codegen {} — do not edit.",
-        env!("CARGO_PKG_VERSION")
-    )
-    .unwrap();
-    writeln!(
-        header,
-        "// Scene `{}` compiled as `{type_name}` (fnv1a {:016x}): {} flexible bod{}.",
-        comment_text(origin),
-        crate::shape::fnv1a(&text),
-        models.len(),
-        if models.len() == 1 { "y" } else { "ies" }
-    )
-    .unwrap();
+    let mut titled = Vec::new();
     let mut arms = String::new();
-    for m in &models {
-        let shape = crate::builder::resolve_shape(&m.shape, &dir)?;
-        let model = crate::eom::KernelModel::new(shape, m.options);
-        let set = generate_kernels(&model)?;
-        check_literals(&set)?;
-        let body_type = crate::scene::body_type_name(&m.name);
+    for (name, set) in &scene.bodies {
+        let body_type = crate::scene::body_type_name(name);
         let kt = format!("{type_name}{body_type}Kernels");
-        writeln!(
-            header,
-            "// Body `{}` → `{kt}`: {}.",
-            comment_text(&m.name),
-            describe(&set)
-        )
-        .unwrap();
-        writeln!(header, "//   operations per call:").unwrap();
-        for (name, p) in set.programs() {
-            writeln!(header, "//     {name:<20} {}", p.ops()).unwrap();
-        }
-        for o in omissions(&set) {
-            writeln!(header, "//   left out: {o}").unwrap();
-        }
-        items.push_str(&kernel_impl(&set, &kt, runtime_path));
+        titled.push((
+            Some(format!("Body `{}` → `{kt}`:", comment_text(name))),
+            set,
+        ));
+        items.push_str(&kernel_impl(set, &kt, runtime_path));
         writeln!(
             arms,
-            "{:?} => ::core::result::Result::Ok((::std::boxed::Box::new({kt}), \"compiled (scene)\")),",
-            m.name
+            "{name:?} => ::core::result::Result::Ok((::std::boxed::Box::new({kt}), \"compiled (scene)\")),"
         )
         .unwrap();
     }
+    let n = scene.bodies.len();
+    let what = format!(
+        "Scene `{}` compiled as `{type_name}` (fnv1a {:016x}): {n} flexible bod{}.",
+        comment_text(origin),
+        crate::shape::fnv1a(text),
+        if n == 1 { "y" } else { "ies" }
+    );
     writeln!(
         items,
         "#[doc = \" The element kernels of the scene's flexible bodies.\"]\n#[derive(Clone, Copy, Debug, Default)]\npub struct {type_name}Kernels;"
@@ -757,6 +754,5 @@ pub fn emit_scene_file(
         origin
     )
     .unwrap();
-    header.push('\n');
-    Ok(header + &format(&items))
+    Ok(header(&what, &titled, &[]) + &format(&items))
 }

@@ -106,3 +106,11 @@ pub fn generate_kernels(model: &KernelModel) -> Result<KernelSet, Error> {
         point_shape,
     })
 }
+
+/// [`generate_kernels`], then the literal check every emitted file needs
+/// ([`crate::limits::check_literals`]: every literal finite in `f64`).
+pub fn generate_checked(model: &KernelModel) -> Result<KernelSet, Error> {
+    let set = generate_kernels(model)?;
+    crate::limits::check_literals(&set)?;
+    Ok(set)
+}
