@@ -79,8 +79,11 @@ struct RawShape {
     description: String,
     coordinates: Spanned<Vec<RawCoordinate>>,
     #[serde(rename = "S")]
-    s: Spanned<BTreeMap<Spanned<String>, Spanned<Vec<Spanned<String>>>>>,
+    s: Spanned<RawShapeMatrix>,
 }
+
+/// The `[S]` table as written: each axis and its entries (expressions).
+type RawShapeMatrix = BTreeMap<Spanned<String>, Spanned<Vec<Spanned<String>>>>;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
