@@ -8,6 +8,10 @@
 //! ([`BodySpec::exact_invariants`]) are their exact assembly with `x₀ = e·l`
 //! and `l = L/N`.
 
+// Tensor code over coordinate and axis indices (`k`, `l`, `a`, `b` as in
+// the theory): index loops read closer to the formulas than iterators.
+#![allow(clippy::needless_range_loop)]
+
 use crate::error::Error;
 use crate::poly::{rat, Monomial, Param, Poly, Sym};
 use crate::shape::Shape;

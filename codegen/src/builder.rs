@@ -25,10 +25,11 @@
 
 use crate::body::{BodySpec, Formalism, Reference};
 use crate::emit::{emit_body_file, emit_kernels_file, EmitOptions};
+#[cfg(feature = "scene")]
+use crate::emit::{emit_scene_file, SceneKernels};
 use crate::eom::KernelModel;
 use crate::error::Error;
-use crate::kernel::generate_kernels;
-use crate::limits::check_literals;
+use crate::kernel::generate_checked;
 use crate::sanitize::{check_identifier, check_type_name};
 use crate::shape::Shape;
 use ffr_spec::{FrameModel, KernelOptions, SceneDim, Stiffening};
@@ -402,8 +403,7 @@ impl Builder {
                     let model = b.kernels.model(&base)?;
                     let spec = BodySpec::new(model.shape.clone(), b.elements, b.reference)?
                         .with_formalism(b.kernels.options.formalism);
-                    let set = generate_kernels(&model)?;
-                    check_literals(&set)?;
+                    let set = generate_checked(&model)?;
                     let opts = EmitOptions {
                         type_name: type_name.clone(),
                         define_struct: true,
@@ -412,13 +412,11 @@ impl Builder {
                     emit_body_file(&set, &spec, &opts)
                 }
                 Entry::Kernels(k) => {
-                    let model = k.model(&base)?;
-                    let set = generate_kernels(&model)?;
-                    check_literals(&set)?;
+                    let set = generate_checked(&k.model(&base)?)?;
                     emit_kernels_file(&set, &type_name, &self.runtime_path)
                 }
                 #[cfg(feature = "scene")]
-                Entry::Scene { path, .. } => crate::emit::emit_scene_file(
+                Entry::Scene { path, .. } => generate_scene(
                     &base.join(path),
                     path,
                     &format!("{type_name}Scene"),
@@ -483,6 +481,40 @@ impl Builder {
         }
         lines
     }
+}
+
+/// The compiled form of the scene file at `path` (named `origin` as
+/// written): read, parse and check it, generate the specialized kernels of
+/// each flexible body (shape files resolved against the scene file's
+/// directory) and emit them with the scene type `type_name`
+/// ([`emit_scene_file`]).
+#[cfg(feature = "scene")]
+pub fn generate_scene(
+    path: &Path,
+    origin: &str,
+    type_name: &str,
+    runtime_path: &str,
+) -> Result<String, Error> {
+    let text = crate::scene::read(path)?;
+    let raw = crate::scene::parse(&text, origin)?;
+    crate::scene::check(&raw, &text, origin)?;
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let bodies = crate::scene::flex_models(&raw, &text, origin)?
+        .into_iter()
+        .map(|m| {
+            let shape = resolve_shape(&m.shape, &dir)?;
+            Ok((
+                m.name,
+                generate_checked(&KernelModel::new(shape, m.options))?,
+            ))
+        })
+        .collect::<Result<Vec<_>, Error>>()?;
+    let scene = SceneKernels {
+        origin,
+        text: &text,
+        bodies,
+    };
+    emit_scene_file(&scene, type_name, runtime_path)
 }
 
 fn looks_like_path(s: &str) -> bool {

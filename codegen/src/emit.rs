@@ -10,6 +10,7 @@ use crate::kernel::KernelSet;
 use crate::poly::Param;
 use crate::poly::Sym;
 use crate::program::{Expr, Input, Program};
+use ffr_spec::KernelKind;
 use std::fmt::Write;
 
 /// How to emit.
@@ -171,29 +172,46 @@ fn out_name(a: OutArr) -> &'static str {
     }
 }
 
-/// `let` bindings of the inputs and temporaries, then the output assignments.
-fn program_body(p: &Program, out: &mut String) {
+/// A program's statements by section: the input loads, the intermediate
+/// terms (one `let` each) and the output assignments (SymForce's layout).
+struct Sections {
+    inputs: String,
+    intermediates: String,
+    outputs: String,
+}
+
+/// The statements of `p`: inputs after `views.inputs` (the fixed-size views
+/// of the slices read), outputs after `views.outputs` (of the slices
+/// written). A scalar input already bound under its own name (`x0`) needs no
+/// `let x0 = x0;`.
+fn sections(p: &Program, views: &Views) -> Sections {
+    let mut inputs = views.inputs.clone();
     for (slot, input) in &p.inputs {
         let (name, src) = (&p.names[*slot as usize], input_source(*input));
-        // A scalar input already bound under its own name (`x0`) needs no
-        // `let x0 = x0;`.
         if *name != src {
-            writeln!(out, "let {name} = {src};").unwrap();
+            writeln!(inputs, "let {name} = {src};").unwrap();
         }
     }
+    let mut intermediates = String::new();
     for (slot, e) in &p.stmts {
-        write!(out, "let {} = ", p.names[*slot as usize]).unwrap();
-        expr(e, &p.names, out);
-        out.push_str(";\n");
+        write!(intermediates, "let {} = ", p.names[*slot as usize]).unwrap();
+        expr(e, &p.names, &mut intermediates);
+        intermediates.push_str(";\n");
     }
+    let mut outputs = views.outputs.clone();
     for ((arr, idx), e) in &p.outputs {
         if *arr == OutArr::Energy {
-            out.push_str("energy = ");
+            outputs.push_str("energy = ");
         } else {
-            write!(out, "{}[{idx}] = ", out_name(*arr)).unwrap();
+            write!(outputs, "{}[{idx}] = ", out_name(*arr)).unwrap();
         }
-        expr(e, &p.names, out);
-        out.push_str(";\n");
+        expr(e, &p.names, &mut outputs);
+        outputs.push_str(";\n");
+    }
+    Sections {
+        inputs,
+        intermediates,
+        outputs,
     }
 }
 
@@ -217,21 +235,31 @@ struct Views<'a> {
     p: &'a Program,
     n: usize,
     nc: usize,
-    s: String,
+    inputs: String,
+    outputs: String,
 }
 
-impl Views<'_> {
+impl<'a> Views<'a> {
+    fn new(p: &'a Program, n: usize, nc: usize) -> Self {
+        Self {
+            p,
+            n,
+            nc,
+            inputs: String::new(),
+            outputs: String::new(),
+        }
+    }
     fn coef(&mut self) {
         if reads_coef(self.p) {
             let nc = self.nc;
-            writeln!(self.s, "let c: &[f64; {nc}] = c.try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
+            writeln!(self.inputs, "let c: &[f64; {nc}] = c.try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
         }
     }
     fn input(&mut self, name: &str, src: &str, f: impl Fn(Sym) -> bool) {
         if reads(self.p, f) {
             let n = self.n;
             writeln!(
-                self.s,
+                self.inputs,
                 "let {name}: &[f64; {n}] = {src}.try_into().expect(\"`{name}` has {n} entries\");"
             )
             .unwrap();
@@ -239,13 +267,13 @@ impl Views<'_> {
     }
     fn scalar(&mut self, name: &str, src: &str, f: impl Fn(Sym) -> bool) {
         if reads(self.p, f) && name != src {
-            writeln!(self.s, "let {name} = {src};").unwrap();
+            writeln!(self.inputs, "let {name} = {src};").unwrap();
         }
     }
     fn output(&mut self, a: OutArr, src: &str, len: usize) {
         if writes(self.p, a) {
             let name = out_name(a);
-            writeln!(self.s, "let {name}: &mut [f64; {len}] = (&mut *{src}).try_into().expect(\"`{name}` has {len} entries\");").unwrap();
+            writeln!(self.outputs, "let {name}: &mut [f64; {len}] = (&mut *{src}).try_into().expect(\"`{name}` has {len} entries\");").unwrap();
         }
     }
     fn kernel_inputs(&mut self, via: &str) {
@@ -259,10 +287,75 @@ impl Views<'_> {
     }
 }
 
-/// The operation-count line of a function (turned into a plain `//`
-/// comment after formatting).
-fn ops_doc(p: &Program) -> String {
-    format!("#[doc = \" operations: {}\"]\n", p.ops())
+/// Whether emitted text is formatted (files) or left as plain tokens for
+/// the compiler (the attribute's expansion).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Layout {
+    Pretty,
+    Tokens,
+}
+
+/// `text` (items, or statements at `depth` 2) formatted by prettyplease at
+/// the indentation it has in the file: `depth` 0 top-level items, 1 items of
+/// an impl, 2 statements of a function in an impl.
+fn pretty(text: &str, depth: usize) -> String {
+    if text.trim().is_empty() {
+        return String::new();
+    }
+    let wrapped = match depth {
+        0 => text.to_string(),
+        1 => format!("impl __Emit {{\n{text}\n}}"),
+        _ => format!("impl __Emit {{\nfn __emit() {{\n{text}\n}}\n}}"),
+    };
+    let file = syn::parse_file(&wrapped)
+        .unwrap_or_else(|e| panic!("ffr-codegen produced invalid Rust (a bug): {e}\n{text}"));
+    let out = prettyplease::unparse(&file);
+    let lines: Vec<&str> = out.lines().collect();
+    let inner = &lines[depth..lines.len() - depth];
+    let mut s = inner.join("\n");
+    s.push('\n');
+    s
+}
+
+/// One kernel function: the operation count, the signature and the body in
+/// sections (`// Inputs`, `// Intermediate terms (N)`, `// Outputs (N)`),
+/// `tail` after the outputs (a returned value).
+fn kernel_fn(
+    out: &mut String,
+    layout: Layout,
+    p: &Program,
+    signature: &str,
+    views: &Views,
+    tail: &str,
+) {
+    let sec = sections(p, views);
+    let (ind, body) = match layout {
+        Layout::Pretty => ("    ", "        "),
+        Layout::Tokens => ("", ""),
+    };
+    writeln!(out, "{ind}// operations: {}", p.ops()).unwrap();
+    match layout {
+        Layout::Pretty => {
+            let sig = pretty(&format!("{signature} {{}}"), 1);
+            let sig = sig
+                .trim_end()
+                .strip_suffix("{}")
+                .expect("prettyplease prints an empty body as {}");
+            writeln!(out, "{sig}{{").unwrap();
+        }
+        Layout::Tokens => writeln!(out, "{signature} {{").unwrap(),
+    }
+    let fmt = |t: &str| match layout {
+        Layout::Pretty => pretty(t, 2),
+        Layout::Tokens => t.to_string(),
+    };
+    writeln!(out, "{body}// Inputs").unwrap();
+    out.push_str(&fmt(&sec.inputs));
+    writeln!(out, "{body}// Intermediate terms ({})", p.stmts.len()).unwrap();
+    out.push_str(&fmt(&sec.intermediates));
+    writeln!(out, "{body}// Outputs ({})", p.outputs.len()).unwrap();
+    out.push_str(&fmt(&(sec.outputs + tail)));
+    writeln!(out, "{ind}}}").unwrap();
 }
 
 /// The Rust expression of `o` (a constant of the runtime's `spec` module).
@@ -277,7 +370,7 @@ fn options_expr(o: &ffr_spec::KernelOptions, rt: &str) -> String {
     )
 }
 
-fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
+fn kernel_impl(set: &KernelSet, kt: &str, rt: &str, layout: Layout) -> String {
     let n = set.n();
     let nc = set.coefficients.len();
     let m = set.model();
@@ -308,212 +401,142 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str) -> String {
         .map(|p| format!("{rt}::spec::Param::{p:?}"))
         .collect::<Vec<_>>()
         .join(", ");
+    let mut top = String::new();
     writeln!(
-        s,
+        top,
         "#[doc = \" Element kernels generated by ffr-codegen from {}.\"]",
         describe(set).replace('\\', "\\\\").replace('"', "\\\"")
     )
     .unwrap();
     writeln!(
-        s,
+        top,
         "#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]\npub struct {kt};"
     )
     .unwrap();
-    writeln!(s, "#[allow(clippy::all, clippy::pedantic, unused_variables)]\nimpl {rt}::ElementKernels for {kt} {{").unwrap();
-    writeln!(
-        s,
+    let info = format!(
         "fn info(&self) -> &{rt}::KernelInfo {{ const INFO: {rt}::KernelInfo = {rt}::KernelInfo {{ shape: ::std::borrow::Cow::Borrowed({:?}), dim: {}, n_local: {n}, coordinates: ::std::borrow::Cow::Borrowed(&[{coords}]), options: {}, n_coefficients: {nc}, params_used: ::std::borrow::Cow::Borrowed(&[{params}]), scratch: 0 }}; &INFO }}",
         comment_text(&m.shape.name),
         m.shape.dimension,
         options_expr(&m.resolved_options(), rt),
-    )
-    .unwrap();
-
-    // Coefficients.
-    let cp = &set.coefficient_program;
-    s.push_str(&ops_doc(cp));
+    );
+    let (top, info) = match layout {
+        Layout::Pretty => (pretty(&top, 0), pretty(&info, 1)),
+        Layout::Tokens => (top, info + "\n"),
+    };
+    s.push_str(&top);
     writeln!(
         s,
-        "fn coefficients(&self, params: &{rt}::spec::Params, l: f64, c: &mut [f64]) {{"
+        "#[allow(clippy::all, clippy::pedantic, unused_variables)]\nimpl {rt}::ElementKernels for {kt} {{"
     )
     .unwrap();
-    writeln!(s, "let c: &mut [f64; {nc}] = c.try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
-    program_body(cp, &mut s);
-    s.push_str("}\n");
-
-    // mass
-    let p = &set.mass;
-    let mut v = Views {
-        p,
-        n,
-        nc,
-        s: String::new(),
-    };
-    v.coef();
-    v.scalar("x0", "x0", |s| s == Sym::X0);
-    v.input("q", "q", |s| matches!(s, Sym::Q(_)));
-    v.output(OutArr::St, "out.s_t", 3);
-    v.output(OutArr::Mee, "out.m_ee", n * n);
-    v.output(OutArr::MeFrame, "out.m_e_frame", n * 6);
-    v.output(OutArr::MrefE, "out.m_ref_e", 6 * n);
-    v.output(OutArr::MrefFrame, "out.m_ref_frame", 36);
-    s.push_str(&ops_doc(p));
-    writeln!(s, "fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut {rt}::MassOut, _scratch: &mut [f64]) {{").unwrap();
-    s.push_str(&v.s);
-    program_body(p, &mut s);
-    s.push_str("}\n");
-
-    // residual / tangent (free frame)
-    if let (Some(rp), Some(tp)) = (&set.residual, &set.tangent) {
-        let mut v = Views {
-            p: rp,
-            n,
-            nc,
-            s: String::new(),
+    s.push_str(&info);
+    for kind in KernelKind::ALL {
+        let Some(p) = set.program(kind) else {
+            continue;
         };
-        v.coef();
-        v.kernel_inputs("x.");
-        v.output(OutArr::Fr, "out.f_r", 3);
-        v.output(OutArr::Fth, "out.f_th", 3);
-        v.output(OutArr::Fe, "out.f_e", n);
-        s.push_str(&ops_doc(rp));
-        writeln!(s, "fn residual(&self, c: &[f64], x: &{rt}::KernelInput, out: &mut {rt}::ResidualOut, _scratch: &mut [f64]) {{").unwrap();
-        s.push_str(&v.s);
-        program_body(rp, &mut s);
-        s.push_str("}\n");
-
-        let mut v = Views {
-            p: tp,
-            n,
-            nc,
-            s: String::new(),
+        let mut v = Views::new(p, n, nc);
+        let (signature, tail) = match kind {
+            KernelKind::Coefficients => {
+                writeln!(v.outputs, "let c: &mut [f64; {nc}] = c.try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
+                (format!("fn coefficients(&self, params: &{rt}::spec::Params, l: f64, c: &mut [f64])"), "")
+            }
+            KernelKind::Mass => {
+                v.coef();
+                v.scalar("x0", "x0", |s| s == Sym::X0);
+                v.input("q", "q", |s| matches!(s, Sym::Q(_)));
+                v.output(OutArr::St, "out.s_t", 3);
+                v.output(OutArr::Mee, "out.m_ee", n * n);
+                v.output(OutArr::MeFrame, "out.m_e_frame", n * 6);
+                v.output(OutArr::MrefE, "out.m_ref_e", 6 * n);
+                v.output(OutArr::MrefFrame, "out.m_ref_frame", 36);
+                (format!("fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut {rt}::MassOut, _scratch: &mut [f64])"), "")
+            }
+            KernelKind::Residual => {
+                v.coef();
+                v.kernel_inputs("x.");
+                v.output(OutArr::Fr, "out.f_r", 3);
+                v.output(OutArr::Fth, "out.f_th", 3);
+                v.output(OutArr::Fe, "out.f_e", n);
+                (format!("fn residual(&self, c: &[f64], x: &{rt}::KernelInput, out: &mut {rt}::ResidualOut, _scratch: &mut [f64])"), "")
+            }
+            KernelKind::Tangent => {
+                v.coef();
+                v.kernel_inputs("x.");
+                v.scalar("bp", "bp", |s| s == Sym::Bp);
+                v.scalar("gp", "gp", |s| s == Sym::Gp);
+                v.output(OutArr::Fr, "out.f_r", 3);
+                v.output(OutArr::Fth, "out.f_th", 3);
+                v.output(OutArr::Fe, "out.f_e", n);
+                v.output(OutArr::Kee, "out.k_ee", n * n);
+                v.output(OutArr::DeFrame, "out.d_e_frame", n * 9);
+                v.output(OutArr::KrefE, "out.k_ref_e", 6 * n);
+                v.output(OutArr::DrefFrame, "out.d_ref_frame", 54);
+                (format!("fn tangent(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, out: &mut {rt}::TangentOut, _scratch: &mut [f64])"), "")
+            }
+            KernelKind::ResidualElastic => {
+                v.coef();
+                v.kernel_inputs("x.");
+                v.output(OutArr::Fe, "f_e", n);
+                (format!("fn residual_elastic(&self, c: &[f64], x: &{rt}::KernelInput, f_e: &mut [f64], _scratch: &mut [f64])"), "")
+            }
+            KernelKind::TangentElastic => {
+                v.coef();
+                v.kernel_inputs("x.");
+                v.scalar("bp", "bp", |s| s == Sym::Bp);
+                v.scalar("gp", "gp", |s| s == Sym::Gp);
+                v.output(OutArr::Fe, "f_e", n);
+                v.output(OutArr::Kee, "k_ee", n * n);
+                (format!("fn tangent_elastic(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, f_e: &mut [f64], k_ee: &mut [f64], _scratch: &mut [f64])"), "")
+            }
+            KernelKind::Energy => {
+                v.coef();
+                v.input("q", "q", |s| matches!(s, Sym::Q(_)));
+                v.outputs.push_str("let energy;\n");
+                (
+                    "fn energy(&self, c: &[f64], q: &[f64], _scratch: &mut [f64]) -> f64"
+                        .to_string(),
+                    "energy\n",
+                )
+            }
+            KernelKind::ElementInvariants => {
+                let (_, inv_len) = ffr_spec::invariant_layout(n);
+                v.coef();
+                v.scalar("x0", "x0", |s| s == Sym::X0);
+                v.output(OutArr::Inv, "out", inv_len);
+                ("fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64], _scratch: &mut [f64])".to_string(), "")
+            }
+            KernelKind::PointShape => {
+                v.coef();
+                v.scalar("xi", "xi", |s| s == Sym::Xi);
+                v.output(OutArr::S, "s", 3 * n);
+                v.output(OutArr::Psi, "psi", 3 * n);
+                ("fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64], _scratch: &mut [f64])".to_string(), "")
+            }
         };
-        v.coef();
-        v.kernel_inputs("x.");
-        v.scalar("bp", "bp", |s| s == Sym::Bp);
-        v.scalar("gp", "gp", |s| s == Sym::Gp);
-        v.output(OutArr::Fr, "out.f_r", 3);
-        v.output(OutArr::Fth, "out.f_th", 3);
-        v.output(OutArr::Fe, "out.f_e", n);
-        v.output(OutArr::Kee, "out.k_ee", n * n);
-        v.output(OutArr::DeFrame, "out.d_e_frame", n * 9);
-        v.output(OutArr::KrefE, "out.k_ref_e", 6 * n);
-        v.output(OutArr::DrefFrame, "out.d_ref_frame", 54);
-        s.push_str(&ops_doc(tp));
-        writeln!(s, "fn tangent(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, out: &mut {rt}::TangentOut, _scratch: &mut [f64]) {{").unwrap();
-        s.push_str(&v.s);
-        program_body(tp, &mut s);
-        s.push_str("}\n");
+        kernel_fn(&mut s, layout, p, &signature, &v, tail);
     }
-
-    // elastic-only kernels
-    let p = &set.residual_elastic;
-    let mut v = Views {
-        p,
-        n,
-        nc,
-        s: String::new(),
-    };
-    v.coef();
-    v.kernel_inputs("x.");
-    v.output(OutArr::Fe, "f_e", n);
-    s.push_str(&ops_doc(p));
-    writeln!(s, "fn residual_elastic(&self, c: &[f64], x: &{rt}::KernelInput, f_e: &mut [f64], _scratch: &mut [f64]) {{").unwrap();
-    s.push_str(&v.s);
-    program_body(p, &mut s);
     s.push_str("}\n");
-
-    let p = &set.tangent_elastic;
-    let mut v = Views {
-        p,
-        n,
-        nc,
-        s: String::new(),
-    };
-    v.coef();
-    v.kernel_inputs("x.");
-    v.scalar("bp", "bp", |s| s == Sym::Bp);
-    v.scalar("gp", "gp", |s| s == Sym::Gp);
-    v.output(OutArr::Fe, "f_e", n);
-    v.output(OutArr::Kee, "k_ee", n * n);
-    s.push_str(&ops_doc(p));
-    writeln!(s, "fn tangent_elastic(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, f_e: &mut [f64], k_ee: &mut [f64], _scratch: &mut [f64]) {{").unwrap();
-    s.push_str(&v.s);
-    program_body(p, &mut s);
-    s.push_str("}\n");
-
-    // energy
-    let p = &set.energy;
-    let mut v = Views {
-        p,
-        n,
-        nc,
-        s: String::new(),
-    };
-    v.coef();
-    v.input("q", "q", |s| matches!(s, Sym::Q(_)));
-    s.push_str(&ops_doc(p));
-    writeln!(
-        s,
-        "fn energy(&self, c: &[f64], q: &[f64], _scratch: &mut [f64]) -> f64 {{"
-    )
-    .unwrap();
-    s.push_str(&v.s);
-    s.push_str("let energy;\n");
-    program_body(p, &mut s);
-    s.push_str("energy\n}\n");
-
-    // element invariants
-    let p = &set.element_invariants;
-    let (_, inv_len) = ffr_spec::invariant_layout(n);
-    let mut v = Views {
-        p,
-        n,
-        nc,
-        s: String::new(),
-    };
-    v.coef();
-    v.scalar("x0", "x0", |s| s == Sym::X0);
-    v.output(OutArr::Inv, "out", inv_len);
-    s.push_str(&ops_doc(p));
-    writeln!(s, "fn element_invariants(&self, c: &[f64], x0: f64, out: &mut [f64], _scratch: &mut [f64]) {{").unwrap();
-    s.push_str(&v.s);
-    program_body(p, &mut s);
-    s.push_str("}\n");
-
-    // point shape
-    let p = &set.point_shape;
-    let mut v = Views {
-        p,
-        n,
-        nc,
-        s: String::new(),
-    };
-    v.coef();
-    v.scalar("xi", "xi", |s| s == Sym::Xi);
-    v.output(OutArr::S, "s", 3 * n);
-    v.output(OutArr::Psi, "psi", 3 * n);
-    s.push_str(&ops_doc(p));
-    writeln!(s, "fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64], _scratch: &mut [f64]) {{").unwrap();
-    s.push_str(&v.s);
-    program_body(p, &mut s);
-    s.push_str("}\n}\n");
     s
 }
 
 /// The kernel type `kt` (unformatted items).
 pub fn kernel_items(set: &KernelSet, kt: &str, runtime_path: &str) -> String {
-    kernel_impl(set, kt, runtime_path)
+    kernel_impl(set, kt, runtime_path, Layout::Tokens)
 }
 
 /// The kernels plus, for a body with a fixed mesh, the `CompiledBody`
 /// implementation for `opts.type_name` (and the parameter struct itself if
 /// `opts.define_struct`), unformatted.
 pub fn body_items(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> String {
+    body_text(set, spec, opts, Layout::Tokens)
+}
+
+fn body_text(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions, layout: Layout) -> String {
     let rt = &opts.runtime_path;
     let ty = &opts.type_name;
     let kt = format!("{ty}Kernels");
-    let mut s = kernel_impl(set, &kt, rt);
+    let kernels = kernel_impl(set, &kt, rt, layout);
+    let mut s = String::new();
     let used = set.params_used();
     if opts.define_struct {
         writeln!(
@@ -573,18 +596,17 @@ pub fn body_items(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> Strin
         spec.shape.dimension
     )
     .unwrap();
-    s
+    match layout {
+        Layout::Pretty => kernels + &pretty(&s, 0),
+        Layout::Tokens => kernels + &s,
+    }
 }
 
-/// Format items with prettyplease and turn the operation-count doc lines
-/// into plain `// operations: N` comments.
-fn format(items: &str) -> String {
-    let file = syn::parse_file(items)
-        .unwrap_or_else(|e| panic!("ffr-codegen produced invalid Rust (a bug): {e}\n{items}"));
-    prettyplease::unparse(&file).replace("/// operations: ", "// operations: ")
-}
-
-fn header(set: &KernelSet, what: &str) -> String {
+/// The header of every generated file: the banner, what the file defines,
+/// then for each kernel set (under its title, if any) its input, element
+/// coordinates, coefficients, operation counts and what its model leaves
+/// out, then `extra` lines.
+fn header(what: &str, sets: &[(Option<String>, &KernelSet)], extra: &[String]) -> String {
     let mut h = String::new();
     writeln!(
         h,
@@ -593,44 +615,56 @@ fn header(set: &KernelSet, what: &str) -> String {
     )
     .unwrap();
     writeln!(h, "// {what}").unwrap();
-    writeln!(h, "// Input: {}.", describe(set)).unwrap();
-    let coords: Vec<String> = set
-        .model()
-        .shape
-        .coordinates
-        .iter()
-        .map(|c| format!("{}_{}", c.kind, c.node))
-        .collect();
-    writeln!(
-        h,
-        "// Element coordinates ({}): {}.",
-        coords.len(),
-        coords.join(" ")
-    )
-    .unwrap();
-    writeln!(
-        h,
-        "// Coefficients: {} (computed once per body).",
-        set.coefficients.len()
-    )
-    .unwrap();
-    writeln!(h, "// Operations per call:").unwrap();
-    writeln!(
-        h,
-        "//   {:<20} {}",
-        "coefficients",
-        set.coefficient_program.ops()
-    )
-    .unwrap();
-    for (name, p) in set.programs() {
-        writeln!(h, "//   {name:<20} {}", p.ops()).unwrap();
-    }
-    let omitted = omissions(set);
-    if !omitted.is_empty() {
-        writeln!(h, "// Left out:").unwrap();
-        for o in omitted {
-            writeln!(h, "//   - {o}").unwrap();
+    for (title, set) in sets {
+        let ind = match title {
+            Some(t) => {
+                writeln!(h, "// {t}").unwrap();
+                "  "
+            }
+            None => "",
+        };
+        writeln!(h, "// {ind}Input: {}.", describe(set)).unwrap();
+        let coords: Vec<String> = set
+            .model()
+            .shape
+            .coordinates
+            .iter()
+            .map(|c| format!("{}_{}", c.kind, c.node))
+            .collect();
+        writeln!(
+            h,
+            "// {ind}Element coordinates ({}): {}.",
+            coords.len(),
+            coords.join(" ")
+        )
+        .unwrap();
+        writeln!(
+            h,
+            "// {ind}Coefficients: {} (computed once per body).",
+            set.coefficients.len()
+        )
+        .unwrap();
+        writeln!(h, "// {ind}Operations per call:").unwrap();
+        writeln!(
+            h,
+            "// {ind}  {:<20} {}",
+            "coefficients",
+            set.coefficient_program.ops()
+        )
+        .unwrap();
+        for (name, p) in set.programs() {
+            writeln!(h, "// {ind}  {name:<20} {}", p.ops()).unwrap();
         }
+        let omitted = omissions(set);
+        if !omitted.is_empty() {
+            writeln!(h, "// {ind}Left out:").unwrap();
+            for o in omitted {
+                writeln!(h, "// {ind}  - {o}").unwrap();
+            }
+        }
+    }
+    for line in extra {
+        writeln!(h, "// {line}").unwrap();
     }
     h.push('\n');
     h
@@ -638,15 +672,22 @@ fn header(set: &KernelSet, what: &str) -> String {
 
 /// A complete, formatted file with the kernel type `kernels_type`.
 pub fn emit_kernels_file(set: &KernelSet, kernels_type: &str, runtime_path: &str) -> String {
-    header(set, &format!("Element kernels `{kernels_type}`."))
-        + &format(&kernel_items(set, kernels_type, runtime_path))
+    header(
+        &format!("Element kernels `{kernels_type}`."),
+        &[(None, set)],
+        &[],
+    ) + &kernel_impl(set, kernels_type, runtime_path, Layout::Pretty)
 }
 
 /// A complete, formatted file for one body with a fixed mesh.
 pub fn emit_body_file(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> String {
     let dofs: Vec<String> = spec.dofs().iter().map(|d| d.to_string()).collect();
-    let mut h = header(
-        set,
+    let mut extra = vec!["Elastic coordinates, in this order:".to_string()];
+    extra.extend(
+        dofs.chunks(12)
+            .map(|chunk| format!("  {}", chunk.join(" "))),
+    );
+    let h = header(
         &format!(
             "Body `{}`: {} element{}, {} reference, {} elastic coordinates.",
             opts.type_name,
@@ -655,91 +696,66 @@ pub fn emit_body_file(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> S
             spec.reference,
             dofs.len()
         ),
+        &[(None, set)],
+        &extra,
     );
-    h.pop();
-    writeln!(h, "// Elastic coordinates, in this order:").unwrap();
-    for chunk in dofs.chunks(12) {
-        writeln!(h, "//   {}", chunk.join(" ")).unwrap();
-    }
-    h.push('\n');
-    h + &format(&body_items(set, spec, opts))
+    h + &body_text(set, spec, opts, Layout::Pretty)
+}
+
+/// A scene file and the kernels of its flexible bodies, ready to emit
+/// (read, checked and generated by [`crate::builder::generate_scene`]).
+#[derive(Clone, Debug)]
+pub struct SceneKernels<'a> {
+    /// The file as it was named (headers, errors).
+    pub origin: &'a str,
+    /// Its text (embedded in the generated type).
+    pub text: &'a str,
+    /// Each flexible body's name and kernel set, in body-name order.
+    pub bodies: Vec<(String, KernelSet)>,
 }
 
 /// The compiled form of a scene file: the specialized kernels of each of its
 /// flexible bodies (`{Type}{Body}Kernels`), a kernel provider and the scene
 /// type `type_name` whose `load()` builds the scene from the embedded file
-/// text with these kernels (`ffr::scene::from_str`). `origin` names the file
-/// as written (headers, errors); `path` is where to read it. The runtime
-/// path must end in `::runtime` (its parent is the `ffr` crate).
+/// text with these kernels (`ffr::scene::from_str`). The runtime path must
+/// end in `::runtime` (its parent is the `ffr` crate).
 #[cfg(feature = "scene")]
 pub fn emit_scene_file(
-    path: &std::path::Path,
-    origin: &str,
+    scene: &SceneKernels,
     type_name: &str,
     runtime_path: &str,
 ) -> Result<String, crate::error::Error> {
-    use crate::kernel::generate_kernels;
-    use crate::limits::check_literals;
-    let text = crate::scene::read(path)?;
-    let raw = crate::scene::parse(&text, origin)?;
-    crate::scene::check(&raw, &text, origin)?;
-    let models = crate::scene::flex_models(&raw, &text, origin)?;
     let root = runtime_path.strip_suffix("::runtime").ok_or_else(|| {
         crate::error::Error::Body(format!(
             "a compiled scene needs the runtime path of the `ffr` crate (`…::runtime`), found `{runtime_path}`"
         ))
     })?;
-    let dir = path
-        .parent()
-        .map(std::path::Path::to_path_buf)
-        .unwrap_or_default();
+    let (origin, text) = (scene.origin, scene.text);
+    let mut kernels = String::new();
     let mut items = String::new();
-    let mut header = String::new();
-    writeln!(
-        header,
-        "// @generated by ffr-codegen {} — do not edit.",
-        env!("CARGO_PKG_VERSION")
-    )
-    .unwrap();
-    writeln!(
-        header,
-        "// Scene `{}` compiled as `{type_name}` (fnv1a {:016x}): {} flexible bod{}.",
-        comment_text(origin),
-        crate::shape::fnv1a(&text),
-        models.len(),
-        if models.len() == 1 { "y" } else { "ies" }
-    )
-    .unwrap();
+    let mut titled = Vec::new();
     let mut arms = String::new();
-    for m in &models {
-        let shape = crate::builder::resolve_shape(&m.shape, &dir)?;
-        let model = crate::eom::KernelModel::new(shape, m.options);
-        let set = generate_kernels(&model)?;
-        check_literals(&set)?;
-        let body_type = crate::scene::body_type_name(&m.name);
+    for (name, set) in &scene.bodies {
+        let body_type = crate::scene::body_type_name(name);
         let kt = format!("{type_name}{body_type}Kernels");
-        writeln!(
-            header,
-            "// Body `{}` → `{kt}`: {}.",
-            comment_text(&m.name),
-            describe(&set)
-        )
-        .unwrap();
-        writeln!(header, "//   operations per call:").unwrap();
-        for (name, p) in set.programs() {
-            writeln!(header, "//     {name:<20} {}", p.ops()).unwrap();
-        }
-        for o in omissions(&set) {
-            writeln!(header, "//   left out: {o}").unwrap();
-        }
-        items.push_str(&kernel_impl(&set, &kt, runtime_path));
+        titled.push((
+            Some(format!("Body `{}` → `{kt}`:", comment_text(name))),
+            set,
+        ));
+        kernels.push_str(&kernel_impl(set, &kt, runtime_path, Layout::Pretty));
         writeln!(
             arms,
-            "{:?} => ::core::result::Result::Ok((::std::boxed::Box::new({kt}), \"compiled (scene)\")),",
-            m.name
+            "{name:?} => ::core::result::Result::Ok((::std::boxed::Box::new({kt}), \"compiled (scene)\")),"
         )
         .unwrap();
     }
+    let n = scene.bodies.len();
+    let what = format!(
+        "Scene `{}` compiled as `{type_name}` (fnv1a {:016x}): {n} flexible bod{}.",
+        comment_text(origin),
+        crate::shape::fnv1a(text),
+        if n == 1 { "y" } else { "ies" }
+    );
     writeln!(
         items,
         "#[doc = \" The element kernels of the scene's flexible bodies.\"]\n#[derive(Clone, Copy, Debug, Default)]\npub struct {type_name}Kernels;"
@@ -758,6 +774,5 @@ pub fn emit_scene_file(
         origin
     )
     .unwrap();
-    header.push('\n');
-    Ok(header + &format(&items))
+    Ok(header(&what, &titled, &[]) + &kernels + &pretty(&items, 0))
 }

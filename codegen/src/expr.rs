@@ -219,7 +219,7 @@ impl Parser<'_> {
             return Ok(Poly::zero());
         }
         let (sa, sb) = (size(a), size(b));
-        for i in 0..4 {
+        for (i, symbol) in SYMBOL_ORDER.iter().enumerate() {
             let d = sa.degree[i] + sb.degree[i];
             let (max, name) = degree_limit(i);
             if d > max {
@@ -227,7 +227,7 @@ impl Parser<'_> {
                     at,
                     &format!(
                         "this product has degree {d} in {}: more than the limit of {max} ({name})",
-                        SYMBOL_ORDER[i]
+                        symbol
                     ),
                 ));
             }
@@ -377,7 +377,7 @@ impl Parser<'_> {
         }
         let s = size(base);
         let n64 = n as u64;
-        for i in 0..4 {
+        for (i, symbol) in SYMBOL_ORDER.iter().enumerate() {
             let d = s.degree[i] * n64;
             let (max, name) = degree_limit(i);
             if d > max {
@@ -385,7 +385,7 @@ impl Parser<'_> {
                     at,
                     &format!(
                         "`^{n}` would give degree {d} in {}: more than the limit of {max} ({name}); it is not expanded",
-                        SYMBOL_ORDER[i]
+                        symbol
                     ),
                 ));
             }

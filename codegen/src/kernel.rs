@@ -5,6 +5,7 @@ use crate::eom::{KernelModel, KernelPolys, Outputs};
 use crate::error::Error;
 use crate::poly::Param;
 use crate::program::{Coefficients, Program, ProgramBuilder};
+use ffr_spec::KernelKind;
 
 /// Every program of one kernel set.
 #[derive(Clone, Debug)]
@@ -44,21 +45,28 @@ impl KernelSet {
         self.polys.n
     }
 
-    /// The kernels by name, in emission order.
-    pub fn programs(&self) -> Vec<(&'static str, &Program)> {
-        let mut v = vec![("mass", &self.mass)];
-        if let (Some(r), Some(t)) = (&self.residual, &self.tangent) {
-            v.push(("residual", r));
-            v.push(("tangent", t));
+    /// The program of kernel `kind` (`None`: not generated for this model,
+    /// the reference rows of a prescribed frame).
+    pub fn program(&self, kind: KernelKind) -> Option<&Program> {
+        match kind {
+            KernelKind::Coefficients => Some(&self.coefficient_program),
+            KernelKind::Mass => Some(&self.mass),
+            KernelKind::Residual => self.residual.as_ref(),
+            KernelKind::Tangent => self.tangent.as_ref(),
+            KernelKind::ResidualElastic => Some(&self.residual_elastic),
+            KernelKind::TangentElastic => Some(&self.tangent_elastic),
+            KernelKind::Energy => Some(&self.energy),
+            KernelKind::ElementInvariants => Some(&self.element_invariants),
+            KernelKind::PointShape => Some(&self.point_shape),
         }
-        v.extend([
-            ("residual_elastic", &self.residual_elastic),
-            ("tangent_elastic", &self.tangent_elastic),
-            ("energy", &self.energy),
-            ("element_invariants", &self.element_invariants),
-            ("point_shape", &self.point_shape),
-        ]);
-        v
+    }
+
+    /// The per-call kernels by name, in emission order (the coefficients
+    /// left out).
+    pub fn programs(&self) -> Vec<(&'static str, &Program)> {
+        KernelKind::per_call()
+            .filter_map(|k| self.program(k).map(|p| (k.name(), p)))
+            .collect()
     }
 
     /// Parameters the coefficients read, in field order (`l` excluded: it is
@@ -83,6 +91,7 @@ pub fn generate_kernels(model: &KernelModel) -> Result<KernelSet, Error> {
     let mut coefficients = Coefficients::default();
     let mut build =
         |outputs: &Outputs| ProgramBuilder::new(Some(&mut coefficients)).build(&polys.dag, outputs);
+    // In the order of `KernelKind::ALL` (it numbers the coefficients).
     let mass = build(&polys.mass);
     let residual = polys.residual.as_ref().map(&mut build);
     let tangent = polys.tangent.as_ref().map(&mut build);
@@ -105,4 +114,12 @@ pub fn generate_kernels(model: &KernelModel) -> Result<KernelSet, Error> {
         element_invariants,
         point_shape,
     })
+}
+
+/// [`generate_kernels`], then the literal check every emitted file needs
+/// ([`crate::limits::check_literals`]: every literal finite in `f64`).
+pub fn generate_checked(model: &KernelModel) -> Result<KernelSet, Error> {
+    let set = generate_kernels(model)?;
+    crate::limits::check_literals(&set)?;
+    Ok(set)
 }

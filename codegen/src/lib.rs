@@ -24,6 +24,7 @@ pub mod error;
 #[cfg(feature = "modal")]
 pub mod export;
 pub mod expr;
+pub mod flex_body;
 pub mod kernel;
 pub mod limits;
 #[cfg(feature = "modal")]
@@ -41,5 +42,5 @@ pub use emit::{emit_body_file, emit_kernels_file, EmitOptions};
 pub use eom::KernelModel;
 pub use error::{Error, Location};
 pub use ffr_spec::{FrameModel, KernelOptions, Params, SceneDim, Stiffening};
-pub use kernel::{generate_kernels, KernelSet};
+pub use kernel::{generate_checked, generate_kernels, KernelSet};
 pub use shape::{Kind, Shape};

@@ -4,7 +4,7 @@
 //! for an unbounded amount of work (`((1+xi)^8)^64`), memory (`/dev/zero`),
 //! stack (50 000 nested parentheses) or exponents that no longer fit
 //! (`xi^(64^5)` squared). Every limit below is checked *before* the work it
-//! bounds is done, and a violation is an [`Error`](crate::Error) at
+//! bounds is done, and a violation is an [`Error`] at
 //! `file:line:column` naming the limit. The values keep every legitimate
 //! beam shape far inside them (the built-in `beam3` uses degree 3 in `ξ`,
 //! degree 1 in `l`, `η`, `ζ`, at most 4 terms and 12 coordinates), and keep

@@ -3,7 +3,7 @@
 //!
 //! A kernel program reads its inputs (coefficients `c[i]`, element
 //! coordinates, frame motion, …), computes `let` temporaries (hoisted power
-//! products, intermediates of the [`Dag`](crate::dag::Dag)) and assigns its
+//! products, intermediates of the [`Dag`]) and assigns its
 //! outputs. Every term `r · P(params) · X(inputs)` of an exact polynomial
 //! becomes `κ · X` with the coefficient `κ = |r| · P` computed once per body
 //! by the *coefficient program* (the [`Coefficients`] registry), so a kernel
@@ -501,8 +501,8 @@ impl<'c> ProgramBuilder<'c> {
     }
 
     /// A coefficient polynomial `C(params)` as `± κ`: a literal (`None` for
-    /// 1) when it has no parameters, else a coefficient slot (or, in the
-    /// coefficient program, the expression itself).
+    /// the literal one) when it has no parameters, else a coefficient slot
+    /// (or, in the coefficient program, the expression itself).
     fn coefficient(&mut self, c: &Poly) -> (bool, Option<Expr>) {
         if let Some(r) = c.as_constant() {
             let a = r.abs();
@@ -565,7 +565,7 @@ impl<'c> ProgramBuilder<'c> {
             if terms.len() == 1 {
                 let (neg, e) = terms.pop().expect("one term");
                 let e = match e {
-                    Expr::Lit(v) if v == 1.0 => o,
+                    Expr::Lit(1.0) => o,
                     e => Expr::mul(o, e),
                 };
                 outer_terms.push((neg, e));

@@ -143,8 +143,9 @@ pub struct RawProfile {
 pub enum RawTarget {
     /// A constant angle.
     Angle(f64),
-    /// A prescribed angle profile (`{ angle = "harmonic", … }`).
-    Profile(RawProfile),
+    /// A prescribed angle profile (`{ angle = "harmonic", … }`; boxed: it
+    /// is much larger than an angle).
+    Profile(Box<RawProfile>),
 }
 
 impl<'de> Deserialize<'de> for RawTarget {
@@ -171,7 +172,7 @@ impl<'de> Deserialize<'de> for RawTarget {
                 map: A,
             ) -> Result<RawTarget, A::Error> {
                 RawProfile::deserialize(serde::de::value::MapAccessDeserializer::new(map))
-                    .map(RawTarget::Profile)
+                    .map(|p| RawTarget::Profile(Box::new(p)))
             }
         }
         d.deserialize_any(V)

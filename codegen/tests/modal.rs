@@ -333,9 +333,9 @@ fn free_free_modes_are_orthogonal_to_rigid_motions() {
         let scale = (p.e * p.iz / (p.rho * p.area * p.length.powi(4))).sqrt();
         let beta = roots(true);
         let step = if shape == "beam2" { 1 } else { 2 }; // iy = iz: y and z pairs
-        for i in 0..2 {
+        for (i, beta_i) in beta.iter().take(2).enumerate() {
             let w = b.frequencies[i * step];
-            let r = w / (beta[i] * beta[i] * scale) - 1.0;
+            let r = w / (beta_i * beta_i * scale) - 1.0;
             eprintln!("  free-free mode {}: {w} rad/s ({r:e})", i + 1);
             assert!(r.abs() < 1e-4, "{shape} mode {}: {r:e}", i + 1);
         }

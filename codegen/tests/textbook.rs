@@ -181,6 +181,8 @@ fn rank_at(m: &PolyMatrix, values: &[(Param, Rational)]) -> usize {
         .map(|i| (0..m.cols).map(|j| eval(m.get(i, j))).collect())
         .collect();
     let mut rank = 0;
+    // Gaussian elimination: rows `r`, `rank` and columns read together.
+    #[allow(clippy::needless_range_loop)]
     for c in 0..m.cols {
         let Some(p) = (rank..m.rows).find(|&r| !a[r][c].is_zero()) else {
             continue;

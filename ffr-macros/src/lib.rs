@@ -7,14 +7,10 @@
 //! `compile_error!` at the offending token.
 
 use ffr_codegen::body::MAX_ELEMENTS;
-use ffr_codegen::builder::resolve_shape;
-use ffr_codegen::emit::body_items;
+use ffr_codegen::flex_body::{self, FlexBodyError, FlexBodyInput};
 use ffr_codegen::poly::Param;
 use ffr_codegen::shape::builtin_names;
-use ffr_codegen::{
-    generate_kernels, BodySpec, EmitOptions, KernelModel, KernelOptions, Reference, SceneDim,
-    Stiffening,
-};
+use ffr_codegen::{EmitOptions, KernelOptions, Reference, SceneDim, Stiffening};
 use proc_macro::TokenStream;
 use proc_macro2::{Span, TokenStream as TokenStream2};
 use quote::{quote, ToTokens};
@@ -309,43 +305,36 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
     let manifest_dir = std::env::var_os("CARGO_MANIFEST_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from("."));
-    let shape = resolve_shape(&shape_lit.value(), &manifest_dir).map_err(|e| {
-        let extra = match &e {
-            ffr_codegen::Error::Shape { .. } => "shape file does not parse: ",
-            ffr_codegen::Error::Io { .. } => "cannot read shape file: ",
-            _ => "",
-        };
-        Error::new_spanned(&shape_lit, format!("{extra}{e}"))
-    })?;
-    let shape_name = shape.name.clone();
-    let shape_file = shape.path.clone();
-    if let Some(lit) = &args.scene {
-        if args.options.scene_or(shape.dimension).dim() < shape.dimension {
-            return Err(Error::new_spanned(
-                lit,
-                format!("shape `{shape_name}` is spatial: it needs scene = \"spatial\""),
-            ));
+    let type_name = strukt.ident.to_string();
+    let body = flex_body::expand(&FlexBodyInput {
+        shape: &shape_lit.value(),
+        base: &manifest_dir,
+        elements,
+        reference,
+        options: args.options,
+        type_name: &type_name,
+        runtime_path: &EmitOptions::default().runtime_path,
+    })
+    .map_err(|e| match e {
+        FlexBodyError::Shape(e) => {
+            let extra = match &e {
+                ffr_codegen::Error::Shape { .. } => "shape file does not parse: ",
+                ffr_codegen::Error::Io { .. } => "cannot read shape file: ",
+                _ => "",
+            };
+            Error::new_spanned(&shape_lit, format!("{extra}{e}"))
         }
-    }
-    let spec = BodySpec::new(shape.clone(), elements, reference)
-        .map_err(|e| Error::new_spanned(&elements_expr, e))?
-        .with_formalism(args.options.formalism);
-    let model = KernelModel::new(shape, args.options);
-    let generated = generate_kernels(&model).map_err(|e| Error::new_spanned(&shape_lit, e))?;
-    ffr_codegen::limits::check_literals(&generated)
-        .map_err(|e| Error::new_spanned(&shape_lit, e))?;
-
-    check_fields(&strukt, &generated.params_used(), &shape_name)?;
-
-    let code = body_items(
-        &generated,
-        &spec,
-        &EmitOptions {
-            type_name: strukt.ident.to_string(),
-            define_struct: false,
-            runtime_path: EmitOptions::default().runtime_path,
-        },
-    );
+        e @ FlexBodyError::Scene(_) => Error::new_spanned(
+            args.scene
+                .as_ref()
+                .expect("only an explicit scene can be too small"),
+            e,
+        ),
+        FlexBodyError::Kernels(e) => Error::new_spanned(&shape_lit, e),
+        FlexBodyError::Elements(e) => Error::new_spanned(&elements_expr, e),
+    })?;
+    check_fields(&strukt, &body.params_used, &body.shape_name)?;
+    let code = body.items;
     let impls = if strukt.generics.params.is_empty() && strukt.generics.where_clause.is_none() {
         code.parse::<TokenStream2>().map_err(|e| {
             Error::new(
@@ -356,7 +345,7 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
     } else {
         with_generics(&code, &strukt)?
     };
-    let rebuild = shape_file.map(|p| {
+    let rebuild = body.shape_file.map(|p| {
         let p = p.canonicalize().unwrap_or(p);
         let p = p.to_string_lossy();
         quote!(

@@ -124,7 +124,8 @@ pub struct MassOut<'a> {
 }
 
 /// The element kernels of a flexible body (generated code, or tapes of the
-/// same programs). Object safe.
+/// same programs): `info` and one method per [`KernelKind`](ffr_spec::KernelKind),
+/// in its order. Object safe.
 pub trait ElementKernels: Send + Sync {
     /// What the kernels were generated for.
     fn info(&self) -> &KernelInfo;

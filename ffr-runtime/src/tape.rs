@@ -7,7 +7,7 @@
 //! kernels are checked against bit for bit (`ffr-bench`). Feature `tape`
 //! (it needs the generator, `ffr-codegen`).
 
-use crate::spec::Params;
+use crate::spec::{KernelKind, Params};
 use crate::{ElementKernels, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut};
 use ffr_codegen::eom::OutArr;
 use ffr_codegen::program::{Inputs, Tape};
@@ -18,15 +18,9 @@ use std::borrow::Cow;
 #[derive(Debug)]
 pub struct TapeKernels {
     info: KernelInfo,
-    coefficients: Tape,
-    mass: Tape,
-    residual: Option<Tape>,
-    tangent: Option<Tape>,
-    residual_elastic: Tape,
-    tangent_elastic: Tape,
-    energy: Tape,
-    invariants: Tape,
-    point_shape: Tape,
+    /// One tape per [`KernelKind`] (`None`: not generated, the reference
+    /// rows of a prescribed frame).
+    tapes: [Option<Tape>; KernelKind::ALL.len()],
 }
 
 impl TapeKernels {
@@ -38,7 +32,10 @@ impl TapeKernels {
     /// Tapes of already generated programs.
     pub fn from_set(set: &KernelSet) -> Self {
         let m = set.model();
-        let tapes = Self {
+        let tapes = KernelKind::ALL.map(|k| set.program(k).map(|p| p.tape()));
+        // Scratch for the largest tape, the coefficients' included.
+        let scratch = tapes.iter().flatten().map(Tape::n_slots).max().unwrap_or(0);
+        Self {
             info: KernelInfo {
                 shape: Cow::Owned(m.shape.name.clone()),
                 dim: m.shape.dimension,
@@ -47,42 +44,21 @@ impl TapeKernels {
                 options: m.resolved_options(),
                 n_coefficients: set.coefficients.len(),
                 params_used: Cow::Owned(set.params_used()),
-                scratch: 0,
-            },
-            coefficients: set.coefficient_program.tape(),
-            mass: set.mass.tape(),
-            residual: set.residual.as_ref().map(|p| p.tape()),
-            tangent: set.tangent.as_ref().map(|p| p.tape()),
-            residual_elastic: set.residual_elastic.tape(),
-            tangent_elastic: set.tangent_elastic.tape(),
-            energy: set.energy.tape(),
-            invariants: set.element_invariants.tape(),
-            point_shape: set.point_shape.tape(),
-        };
-        // Scratch for the largest tape, the coefficients' included.
-        let scratch = [
-            Some(&tapes.coefficients),
-            Some(&tapes.mass),
-            tapes.residual.as_ref(),
-            tapes.tangent.as_ref(),
-            Some(&tapes.residual_elastic),
-            Some(&tapes.tangent_elastic),
-            Some(&tapes.energy),
-            Some(&tapes.invariants),
-            Some(&tapes.point_shape),
-        ]
-        .into_iter()
-        .flatten()
-        .map(Tape::n_slots)
-        .max()
-        .unwrap_or(0);
-        Self {
-            info: KernelInfo {
                 scratch,
-                ..tapes.info
             },
-            ..tapes
+            tapes,
         }
+    }
+
+    /// The tape of kernel `k`.
+    fn tape(&self, k: KernelKind) -> &Tape {
+        self.tapes[k.index()].as_ref().unwrap_or_else(|| {
+            panic!(
+                "kernels of `{}` were generated without `{}` (the reference rows: prescribed frame motion only)",
+                self.info.shape,
+                k.name()
+            )
+        })
     }
 }
 
@@ -115,9 +91,10 @@ impl ElementKernels for TapeKernels {
         let mut p = [0.0; 9];
         p[..8].copy_from_slice(&params.to_array());
         p[8] = l; // the derived parameter `Param::ElemLength`
-        let mut scratch = vec![0.0; self.coefficients.n_slots()];
+        let t = self.tape(KernelKind::Coefficients);
+        let mut scratch = vec![0.0; t.n_slots()];
         run(
-            &self.coefficients,
+            t,
             &Inputs {
                 params: &p,
                 ..Inputs::default()
@@ -134,21 +111,23 @@ impl ElementKernels for TapeKernels {
             q,
             ..Inputs::default()
         };
-        run(&self.mass, &inputs, scratch, |arr, i, v| match arr {
-            OutArr::St => out.s_t[i] = v,
-            OutArr::Mee => out.m_ee[i] = v,
-            OutArr::MeFrame => out.m_e_frame[i] = v,
-            OutArr::MrefE => out.m_ref_e[i] = v,
-            OutArr::MrefFrame => out.m_ref_frame[i] = v,
-            other => unreachable!("{other:?} in mass"),
-        });
+        run(
+            self.tape(KernelKind::Mass),
+            &inputs,
+            scratch,
+            |arr, i, v| match arr {
+                OutArr::St => out.s_t[i] = v,
+                OutArr::Mee => out.m_ee[i] = v,
+                OutArr::MeFrame => out.m_e_frame[i] = v,
+                OutArr::MrefE => out.m_ref_e[i] = v,
+                OutArr::MrefFrame => out.m_ref_frame[i] = v,
+                other => unreachable!("{other:?} in mass"),
+            },
+        );
     }
 
     fn residual(&self, c: &[f64], x: &KernelInput, out: &mut ResidualOut, scratch: &mut [f64]) {
-        let t = self
-            .residual
-            .as_ref()
-            .expect("kernels generated without the reference rows");
+        let t = self.tape(KernelKind::Residual);
         run(t, &kernel_inputs(c, x), scratch, |arr, i, v| match arr {
             OutArr::Fr => out.f_r[i] = v,
             OutArr::Fth => out.f_th[i] = v,
@@ -166,10 +145,7 @@ impl ElementKernels for TapeKernels {
         out: &mut TangentOut,
         scratch: &mut [f64],
     ) {
-        let t = self
-            .tangent
-            .as_ref()
-            .expect("kernels generated without the reference rows");
+        let t = self.tape(KernelKind::Tangent);
         let inputs = Inputs {
             bp,
             gp,
@@ -189,7 +165,7 @@ impl ElementKernels for TapeKernels {
 
     fn residual_elastic(&self, c: &[f64], x: &KernelInput, f_e: &mut [f64], scratch: &mut [f64]) {
         run(
-            &self.residual_elastic,
+            self.tape(KernelKind::ResidualElastic),
             &kernel_inputs(c, x),
             scratch,
             |_, i, v| f_e[i] = v,
@@ -212,7 +188,7 @@ impl ElementKernels for TapeKernels {
             ..kernel_inputs(c, x)
         };
         run(
-            &self.tangent_elastic,
+            self.tape(KernelKind::TangentElastic),
             &inputs,
             scratch,
             |arr, i, v| match arr {
@@ -230,7 +206,12 @@ impl ElementKernels for TapeKernels {
             q,
             ..Inputs::default()
         };
-        run(&self.energy, &inputs, scratch, |_, _, v| e = v);
+        run(
+            self.tape(KernelKind::Energy),
+            &inputs,
+            scratch,
+            |_, _, v| e = v,
+        );
         e
     }
 
@@ -240,7 +221,12 @@ impl ElementKernels for TapeKernels {
             x0,
             ..Inputs::default()
         };
-        run(&self.invariants, &inputs, scratch, |_, i, v| out[i] = v);
+        run(
+            self.tape(KernelKind::ElementInvariants),
+            &inputs,
+            scratch,
+            |_, i, v| out[i] = v,
+        );
     }
 
     fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64], scratch: &mut [f64]) {
@@ -249,10 +235,15 @@ impl ElementKernels for TapeKernels {
             xi,
             ..Inputs::default()
         };
-        run(&self.point_shape, &inputs, scratch, |arr, i, v| match arr {
-            OutArr::S => s[i] = v,
-            OutArr::Psi => psi[i] = v,
-            other => unreachable!("{other:?} in point_shape"),
-        });
+        run(
+            self.tape(KernelKind::PointShape),
+            &inputs,
+            scratch,
+            |arr, i, v| match arr {
+                OutArr::S => s[i] = v,
+                OutArr::Psi => psi[i] = v,
+                other => unreachable!("{other:?} in point_shape"),
+            },
+        );
     }
 }

@@ -10,11 +10,13 @@
 //! concept (the numbering of `q_f` in particular) without the generator
 //! depending on the runtime or the other way round.
 
+mod kernel_kind;
 mod kernel_options;
 mod mesh;
 mod options;
 mod params;
 
+pub use kernel_kind::KernelKind;
 pub use kernel_options::{FrameModel, KernelOptions, SceneDim};
 pub use mesh::{Dof, ElementCoordinate, Kind, Mesh, MeshError, Reference, MAX_ELEMENTS};
 pub use options::{Formalism, Stiffening};

@@ -6,7 +6,7 @@ use std::path::Path;
 /// the scene type named `type_name`.
 pub fn scene_file(path: &Path, type_name: &str) -> crate::Result<String> {
     let origin = path.display().to_string();
-    Ok(crate::codegen::emit::emit_scene_file(
+    Ok(crate::codegen::builder::generate_scene(
         path,
         &origin,
         type_name,

@@ -235,7 +235,8 @@ pub fn augment(
             r -= phi * c;
         }
         let left = m_norm(&r);
-        if !(left > STATIC_DROP_TOL * size) {
+        // Not above the tolerance, NaN included.
+        if left.partial_cmp(&(STATIC_DROP_TOL * size)) != Some(std::cmp::Ordering::Greater) {
             continue;
         }
         r /= left;

@@ -1,6 +1,10 @@
 //! Invariants as `f64` (nalgebra), correctly rounded from the exact ones, and
 //! their projection onto a modal basis.
 
+// Tensor code over coordinate and axis indices (`k`, `l`, `a`, `b` as in
+// the theory): index loops read closer to the formulas than iterators.
+#![allow(clippy::needless_range_loop)]
+
 use super::ModalError;
 use crate::body::{ExactInvariants, PolyMatrix};
 use crate::poly::{to_f64, Monomial, Param, Poly, Rational, Sym};

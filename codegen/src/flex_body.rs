@@ -1,0 +1,97 @@
+//! The `#[flex_body]` attribute's one call into the generator (as
+//! `serde_derive` calls its backend): the attribute parses its options and
+//! the struct, [`expand`] resolves the shape, generates the kernels and
+//! emits the code, and the attribute checks the struct's fields against
+//! [`FlexBody::params_used`] and expands.
+
+use crate::body::BodySpec;
+use crate::builder::resolve_shape;
+use crate::emit::{body_items, EmitOptions};
+use crate::eom::KernelModel;
+use crate::error::Error;
+use crate::kernel::generate_checked;
+use crate::poly::Param;
+use ffr_spec::{KernelOptions, Reference};
+use std::path::{Path, PathBuf};
+
+/// What the attribute asks for.
+#[derive(Clone, Debug)]
+pub struct FlexBodyInput<'a> {
+    /// The shape as written: a built-in name or a path to a shape file.
+    pub shape: &'a str,
+    /// The directory a relative shape path is resolved against (the crate
+    /// root, `CARGO_MANIFEST_DIR`).
+    pub base: &'a Path,
+    /// Number of elements.
+    pub elements: usize,
+    /// Reference condition.
+    pub reference: Reference,
+    /// The kernel options (scene `None`: the shape's).
+    pub options: KernelOptions,
+    /// The user's struct: the generated impls are for it, its kernels are
+    /// `{type_name}Kernels`.
+    pub type_name: &'a str,
+    /// Path of the runtime crate as the generated code sees it.
+    pub runtime_path: &'a str,
+}
+
+/// The generated code and what the attribute checks the struct against.
+#[derive(Clone, Debug)]
+pub struct FlexBody {
+    /// Unformatted items: the kernel type and the `CompiledBody` impl for
+    /// the user's struct (which is not redefined).
+    pub items: String,
+    /// The shape's name (for messages).
+    pub shape_name: String,
+    /// The shape file, if the shape is not built in (the crate must be
+    /// rebuilt when it changes).
+    pub shape_file: Option<PathBuf>,
+    /// The parameters the body reads: each must be an `f64` field.
+    pub params_used: Vec<Param>,
+}
+
+/// A failure of [`expand`], by the option it is about (for the
+/// attribute's error spans).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum FlexBodyError {
+    /// The shape cannot be resolved or read.
+    #[error("{0}")]
+    Shape(Error),
+    /// The shape's kernels cannot be generated (or emitted).
+    #[error("{0}")]
+    Kernels(Error),
+    /// The scene cannot hold the shape (a spatial shape in a planar scene).
+    #[error("shape `{0}` is spatial: it needs scene = \"spatial\"")]
+    Scene(String),
+    /// The mesh is not valid (element count).
+    #[error("{0}")]
+    Elements(Error),
+}
+
+/// Resolve, generate and emit the body the attribute describes.
+pub fn expand(input: &FlexBodyInput) -> Result<FlexBody, FlexBodyError> {
+    let shape = resolve_shape(input.shape, input.base).map_err(FlexBodyError::Shape)?;
+    let model = KernelModel::new(shape, input.options);
+    if model.scene_dim() < model.shape.dimension {
+        return Err(FlexBodyError::Scene(model.shape.name.clone()));
+    }
+    let spec = BodySpec::new(model.shape.clone(), input.elements, input.reference)
+        .map_err(FlexBodyError::Elements)?
+        .with_formalism(input.options.formalism);
+    let set = generate_checked(&model).map_err(FlexBodyError::Kernels)?;
+    let items = body_items(
+        &set,
+        &spec,
+        &EmitOptions {
+            type_name: input.type_name.to_string(),
+            define_struct: false,
+            runtime_path: input.runtime_path.to_string(),
+        },
+    );
+    Ok(FlexBody {
+        items,
+        shape_name: model.shape.name.clone(),
+        shape_file: model.shape.path.clone(),
+        params_used: set.params_used(),
+    })
+}
