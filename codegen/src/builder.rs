@@ -46,6 +46,9 @@ pub struct KernelConfig {
     /// The options (default: consistent, no stiffening, the shape's scene,
     /// free frame).
     pub options: KernelOptions,
+    /// A scene dimension other than 2 or 3 given to
+    /// [`KernelConfig::scene_dim`], refused by [`KernelConfig::model`].
+    pub invalid_scene_dim: Option<usize>,
 }
 
 impl KernelConfig {
@@ -56,6 +59,7 @@ impl KernelConfig {
             name: name.to_string(),
             shape: shape.as_ref().to_string(),
             options: KernelOptions::new(),
+            invalid_scene_dim: None,
         }
     }
     /// All options at once.
@@ -76,16 +80,21 @@ impl KernelConfig {
     /// The scene (a planar shape in a spatial scene needs [`SceneDim::Spatial`]).
     pub fn scene(mut self, d: SceneDim) -> Self {
         self.options.scene = Some(d);
+        self.invalid_scene_dim = None;
         self
     }
-    /// The scene by its dimension, 2 or 3.
-    ///
-    /// # Panics
-    /// For any other number (a mistake in the build script).
-    pub fn scene_dim(self, d: usize) -> Self {
+    /// The scene by its dimension, 2 or 3; any other number is an error
+    /// when the kernels are generated ([`KernelConfig::model`]).
+    pub fn scene_dim(mut self, d: usize) -> Self {
         match SceneDim::from_dim(d) {
-            Some(d) => self.scene(d),
-            None => panic!("scene dimension must be 2 or 3, found {d}"),
+            Some(s) => {
+                self.invalid_scene_dim = None;
+                self.scene(s)
+            }
+            None => {
+                self.invalid_scene_dim = Some(d);
+                self
+            }
         }
     }
     /// What the kernels assume about the frame's motion.
@@ -103,6 +112,12 @@ impl KernelConfig {
 
     /// The kernel model, with relative shape paths resolved against `base`.
     pub fn model(&self, base: &Path) -> Result<KernelModel, Error> {
+        if let Some(d) = self.invalid_scene_dim {
+            return Err(Error::Body(format!(
+                "kernels `{}`: the scene dimension must be 2 or 3, found {d}",
+                self.name
+            )));
+        }
         let shape = resolve_shape(&self.shape, base)?;
         let model = KernelModel::new(shape, self.options);
         if model.scene_dim() < model.shape.dimension {

@@ -633,9 +633,7 @@ fn toml_message(message: &str, text: &str, offset: usize) -> String {
         .collect();
     let joined = lines.join(": ");
     let m = joined.as_str();
-    let at_end = text
-        .get(offset..)
-        .map_or(true, |rest| rest.trim().is_empty());
+    let at_end = text.get(offset..).is_none_or(|rest| rest.trim().is_empty());
     if m.contains("recursion") {
         return format!("{m}: arrays or tables nest too deeply");
     }

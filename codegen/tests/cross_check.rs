@@ -330,7 +330,7 @@ fn live6(scene: usize) -> Vec<usize> {
 /// `m` with the rows and columns outside `rows`/`cols` set to zero.
 fn masked(m: &DMatrix<f64>, rows: Option<&[usize]>, cols: Option<&[usize]>) -> DMatrix<f64> {
     DMatrix::from_fn(m.nrows(), m.ncols(), |i, j| {
-        let ok = rows.map_or(true, |r| r.contains(&i)) && cols.map_or(true, |c| c.contains(&j));
+        let ok = rows.is_none_or(|r| r.contains(&i)) && cols.is_none_or(|c| c.contains(&j));
         if ok {
             m[(i, j)]
         } else {

@@ -173,11 +173,33 @@ fn unknown_shape_missing_file_and_bad_body() {
     assert!(e.contains("expected clamped, pinned or free"), "{e}");
 }
 
-/// A scene dimension other than 2 or 3 is a mistake in the build script.
+/// A scene dimension other than 2 or 3 is refused with an error when the
+/// kernels are generated, not a panic in the build script; a later valid
+/// dimension replaces it.
 #[test]
-#[should_panic(expected = "scene dimension must be 2 or 3, found 4")]
 fn scene_dimension_4_is_refused() {
-    let _ = ffr_codegen::builder::KernelConfig::new("k", "beam2").scene_dim(4);
+    use ffr_codegen::builder::{Builder, KernelConfig};
+    let base = std::path::Path::new(".");
+    let e = KernelConfig::new("k", "beam2")
+        .scene_dim(4)
+        .model(base)
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "invalid body: kernels `k`: the scene dimension must be 2 or 3, found 4"
+    );
+    let e = Builder::new()
+        .kernels(KernelConfig::new("k", "beam2").scene_dim(4))
+        .render()
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("found 4"), "{e}");
+    assert!(KernelConfig::new("k", "beam2")
+        .scene_dim(4)
+        .scene_dim(3)
+        .model(base)
+        .is_ok());
 }
 
 #[test]

@@ -894,7 +894,7 @@ fn run_case(c: &Case) -> Result<Outcome, String> {
         Ok((r, took)) => {
             {
                 let slowest = &mut SLOWEST.lock().unwrap()[c.stiffening.is_on() as usize];
-                if slowest.as_ref().map_or(true, |(t, _)| took > *t) {
+                if slowest.as_ref().is_none_or(|(t, _)| took > *t) {
                     *slowest = Some((took, c.clone()));
                 }
             }

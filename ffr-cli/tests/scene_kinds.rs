@@ -317,7 +317,7 @@ b = "bar"
 name = "energy"
 kind = "energy"
 "#;
-    let s = load(&spherical);
+    let s = load(spherical);
     let phi = max_violation(&s);
     let r = run(&s);
     let e = col(&r, "energy");
@@ -613,8 +613,9 @@ component = "kinetic"
 
 /// A linear spring–damper between the ground and a block on a prismatic
 /// guide, started stretched: the block oscillates at `ω = √(k/m)` with
-/// damping ratio `ζ = c/(2√(km))`, its position `x(t) = e^{−ζωt}(A cos ω_d t
-/// + B sin ω_d t)`; the springs energy is `½ k (l − l₀)²` of the position
+/// damping ratio `ζ = c/(2√(km))`, its position
+/// `x(t) = e^{−ζωt}(A cos ω_d t + B sin ω_d t)`; the springs energy is
+/// `½ k (l − l₀)²` of the position
 /// output; and `E(t) + D(t) = E(0)` (no applied work). Measured at
 /// dt = 1e-4 s: |x − closed form| ≤ 3.1e-7 m of 0.1 m, the springs energy
 /// to 2.2e-16 J, and |E + D − E(0)| ≤ 9.6e-7 J of 1 J (0.96 J dissipated).

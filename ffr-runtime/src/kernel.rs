@@ -161,6 +161,9 @@ pub trait ElementKernels: Send + Sync {
     fn residual_elastic(&self, c: &[f64], x: &KernelInput, f_e: &mut [f64], scratch: &mut [f64]);
 
     /// `f_e` and `β' ∂f_e/∂q̈ + γ' ∂f_e/∂q̇ + ∂f_e/∂q` (frame motion prescribed).
+    // The generated signature: inputs, the two Newton factors, two outputs
+    // and the caller's scratch (CasADi style), like `tangent`.
+    #[allow(clippy::too_many_arguments)]
     fn tangent_elastic(
         &self,
         c: &[f64],

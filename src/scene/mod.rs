@@ -2,7 +2,7 @@
 //! forces and outputs, run by `ffr run SCENE.toml` (format: `docs/scenes.md`),
 //! or compiled into a crate by `ffr_codegen::Builder::scene`.
 //!
-//! - [`load`]: from the file to a [`Scene`], one file per TOML section;
+//! - [`load`](mod@load): from the file to a [`Scene`], one file per TOML section;
 //! - [`model`]: the loaded scene and its output columns;
 //! - [`provider`]: where flexible bodies get their kernels;
 //! - [`run`](mod@run): the run and its recorded columns;

@@ -224,11 +224,12 @@ fn hub_system<B: ffr::runtime::Body>(
 /// energies beside the system that owns the first.
 pub type Probe = KernelBody<Kernels>;
 
+/// The spin-up system with its one beam body.
+pub type BeamSystem = System<KernelBody<Kernels>>;
+
 /// The spin-up system: the beam clamped to the hub (its frame origin fixed
 /// at the global origin) with the hub angle prescribed.
-pub fn system(
-    cfg: &SpinUp,
-) -> Result<(System<KernelBody<Kernels>>, Probe), Box<dyn std::error::Error>> {
+pub fn system(cfg: &SpinUp) -> Result<(BeamSystem, Probe), Box<dyn std::error::Error>> {
     check_drive(cfg)?;
     let body = cfg.beam().body()?;
     let probe = cfg.beam().body()?;
@@ -369,7 +370,7 @@ fn simulate<B: ffr::runtime::Body>(
 /// kernels need their reference rows.
 pub fn joint_driven_system(
     cfg: &SpinUp,
-) -> Result<(System<KernelBody<Kernels>>, Probe), Box<dyn std::error::Error>> {
+) -> Result<(BeamSystem, Probe), Box<dyn std::error::Error>> {
     check_drive(cfg)?;
     let spec = cfg.beam().scene_dim(3).frame(FrameModel::Free);
     let body = spec.body()?;

@@ -41,7 +41,7 @@ pub(super) fn add_joints(
             joint_spans.resize(sys.constraints().len(), span);
         }
         let kind = jr.kind.get_ref().as_str();
-        let bm = b.marker(&sys, &jr.b)?;
+        let bm = b.marker(sys, &jr.b)?;
         if kind == "ground" {
             if jr.a.is_some() || jr.drive.is_some() || jr.motor.is_some() {
                 return Err(c.err(j.span(), "a `ground` joint fixes body `b` where it starts: it takes no `a`, `drive` or `motor`"));
@@ -66,7 +66,7 @@ pub(super) fn add_joints(
                 format!("a `{kind}` joint needs markers `a` and `b`"),
             )
         })?;
-        let am = b.marker(&sys, a)?;
+        let am = b.marker(sys, a)?;
         if let Some(bi) = folded.iter().position(|f| *f == Some(ji)) {
             // Revolute to the ground at the body's frame origin, angle drive:
             // prescribe the frame (origin fixed, angle driven).
