@@ -20,7 +20,7 @@ pub enum Error {
     /// A scene file does not load: where and what.
     #[cfg(feature = "scene-files")]
     #[error(transparent)]
-    Scene(#[from] crate::scene::SceneError),
+    Scene(#[from] SceneError),
     /// A file could not be read or written.
     #[error(transparent)]
     Io(#[from] std::io::Error),
@@ -41,6 +41,29 @@ impl From<&str> for Error {
         Error::Invalid(message.to_string())
     }
 }
+
+/// A scene file that does not load: where and what.
+#[cfg(feature = "scene-files")]
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    /// `file:line:col`, when the problem has a place.
+    pub location: Option<crate::codegen::Location>,
+    /// What is wrong and what is allowed.
+    pub message: String,
+}
+
+#[cfg(feature = "scene-files")]
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.location {
+            Some(l) => write!(f, "{l}: {}", self.message),
+            None => f.write_str(&self.message),
+        }
+    }
+}
+
+#[cfg(feature = "scene-files")]
+impl std::error::Error for SceneError {}
 
 /// `Result` with the library's [`Error`].
 pub type Result<T, E = Error> = std::result::Result<T, E>;

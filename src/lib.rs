@@ -27,6 +27,8 @@ pub use nalgebra;
 mod error;
 pub mod prelude;
 
+#[cfg(feature = "scene-files")]
+pub use error::SceneError;
 pub use error::{Error, Result};
 
 #[cfg(feature = "scene-files")]

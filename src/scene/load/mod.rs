@@ -6,11 +6,11 @@
 use crate::codegen::scene::quoted as q;
 use crate::codegen::scene::{flex_models, FlexBodyModel, RawScene};
 use crate::codegen::Location;
+pub use crate::error::SceneError;
 use crate::runtime::nalgebra::Vector3;
 use crate::runtime::{Body, System};
 use crate::scene::model::{FlexSpec, Output, Scene, MAX_RECORDED_VALUES};
 use crate::scene::provider::{DefaultKernels, KernelProvider};
-use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
@@ -27,26 +27,6 @@ use forces::force;
 use integrator::integrator;
 use markers::Markers;
 use outputs::output;
-
-/// A scene file that does not load: where and what.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SceneError {
-    /// `file:line:col`, when the problem has a place.
-    pub location: Option<Location>,
-    /// What is wrong and what is allowed.
-    pub message: String,
-}
-
-impl fmt::Display for SceneError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match &self.location {
-            Some(l) => write!(f, "{l}: {}", self.message),
-            None => f.write_str(&self.message),
-        }
-    }
-}
-
-impl std::error::Error for SceneError {}
 
 fn scene_error(e: crate::codegen::Error) -> SceneError {
     match e {
