@@ -12,9 +12,10 @@
 //!
 //! Behind features:
 //!
-//! - `scene-files`: [`scene`] (TOML scene files: loader and runner),
-//!   [`kernels::BeamSpec`] (a beam described at run time, on tapes of the
-//!   generator's programs), [`modal`] (reduced bodies) and [`codegen`];
+//! - `scene-files`: `scene` (TOML scene files: loader and runner),
+//!   `kernels::BeamSpec` (a beam described at run time, on tapes of the
+//!   generator's programs), `modal` (reduced bodies) and `codegen` (plain
+//!   names: the items exist only with the feature);
 //! - `builtin-kernels` (implies `scene-files`): the built-in shapes'
 //!   compiled kernels, used by `BeamSpec` and scene files instead of tapes.
 //!
