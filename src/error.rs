@@ -17,8 +17,7 @@ pub enum Error {
     /// convergence, divergence, a singular matrix).
     #[error(transparent)]
     Runtime(#[from] crate::runtime::Error),
-    /// A scene file does not load: where and what.
-    #[cfg(feature = "scene-files")]
+    /// A scene does not load: where and what.
     #[error(transparent)]
     Scene(#[from] SceneError),
     /// A file could not be read or written.
@@ -42,17 +41,15 @@ impl From<&str> for Error {
     }
 }
 
-/// A scene file that does not load: where and what.
-#[cfg(feature = "scene-files")]
+/// A scene that does not load: where and what.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneError {
     /// `file:line:col`, when the problem has a place.
-    pub location: Option<crate::codegen::Location>,
+    pub location: Option<crate::runtime::spec::Location>,
     /// What is wrong and what is allowed.
     pub message: String,
 }
 
-#[cfg(feature = "scene-files")]
 impl std::fmt::Display for SceneError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match &self.location {
@@ -62,7 +59,6 @@ impl std::fmt::Display for SceneError {
     }
 }
 
-#[cfg(feature = "scene-files")]
 impl std::error::Error for SceneError {}
 
 /// `Result` with the library's [`Error`].

@@ -8,11 +8,13 @@
 //!   compile time;
 //! - [`runtime`]: bodies, joints, forces, generalized-α and RK4;
 //! - [`prelude`]: the names a simulation uses;
-//! - [`Error`]: one error type to match on.
+//! - [`Error`]: one error type to match on;
+//! - [`scene`]: scenes built from resolved data (`SceneSpec`) and run; a
+//!   compiled scene (`ffr_codegen::Builder::scene`) needs nothing more.
 //!
 //! Behind features:
 //!
-//! - `scene-files`: `scene` (TOML scene files: loader and runner),
+//! - `scene-files`: `scene::load` (TOML scene files),
 //!   `kernels::BeamSpec` (a beam described at run time, on tapes of the
 //!   generator's programs), `modal` (reduced bodies) and `codegen` (plain
 //!   names: the items exist only with the feature);
@@ -28,9 +30,7 @@ pub use nalgebra;
 mod error;
 pub mod prelude;
 
-#[cfg(feature = "scene-files")]
-pub use error::SceneError;
-pub use error::{Error, Result};
+pub use error::{Error, Result, SceneError};
 
 #[cfg(feature = "scene-files")]
 pub use ffr_codegen as codegen;
@@ -40,7 +40,6 @@ pub mod invariants;
 pub mod kernels;
 #[cfg(feature = "scene-files")]
 pub mod modal;
-#[cfg(feature = "scene-files")]
 pub mod scene;
 
 #[cfg(feature = "scene-files")]

@@ -273,33 +273,7 @@ pub fn reduction_name(basis: &ModalBasis) -> &'static str {
 
 /// How a flexible body is reduced to modes in a scene (keys `modes`,
 /// `boundary`, `static_modes`, `modal_damping`) and by `ffr spin-up --modes`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ModalSettings {
-    /// Normal modes kept: the lowest eigenmodes (modal truncation) or
-    /// fixed-interface modes (Craig–Bampton).
-    pub modes: usize,
-    /// Craig–Bampton boundary nodes; empty: modal truncation.
-    pub boundary: Vec<usize>,
-    /// Add the static modes of [`modal::static_loads`] (inertia loads of
-    /// the frame's motion and, with stiffening, the modal derivatives).
-    pub static_modes: bool,
-    /// Damping ratios `ζ` of the normal modes: none, one for every normal
-    /// mode, or one per normal mode; `D = diag(2 ζ_i ω_i)` on them (the other
-    /// modes are undamped).
-    pub damping: Vec<f64>,
-}
-
-impl ModalSettings {
-    /// `modes` normal modes of a modal truncation with static modes, no damping.
-    pub fn truncation(modes: usize) -> Self {
-        Self {
-            modes,
-            boundary: Vec::new(),
-            static_modes: true,
-            damping: Vec::new(),
-        }
-    }
-}
+pub use crate::runtime::spec::scene::ModalSettings;
 
 impl ReducibleBody {
     /// The runtime body reduced as `settings` say: the basis (with static

@@ -332,8 +332,9 @@ impl Builder {
     /// Add a scene file (relative to the crate root): the specialized kernels
     /// of its flexible bodies and a scene type (the CamelCase of the file
     /// stem plus `Scene`, e.g. `ArmScene` for `scenes/arm.toml`, in
-    /// `arm.rs`) whose `load()` builds the scene from the embedded file with
-    /// these kernels: it simulates bit for bit like `ffr run` on the file.
+    /// `arm.rs`) whose `spec()` is the scene resolved at build time, as data,
+    /// and whose `load()` builds it with these kernels (no file is parsed at
+    /// start-up): it simulates bit for bit like `ffr run` on the file.
     #[cfg(feature = "scene")]
     pub fn scene(self, path: impl AsRef<str>) -> Self {
         let p = path.as_ref().to_string();
@@ -499,7 +500,7 @@ impl Builder {
 }
 
 /// The compiled form of the scene file at `path` (named `origin` as
-/// written): read, parse and check it, generate the specialized kernels of
+/// written): read, parse, check and resolve it, generate the specialized kernels of
 /// each flexible body (shape files resolved against the scene file's
 /// directory) and emit them with the scene type `type_name`
 /// ([`emit_scene_file`]).
@@ -514,6 +515,7 @@ pub fn generate_scene(
     let raw = crate::scene::parse(&text, origin)?;
     crate::scene::check(&raw, &text, origin)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let spec = crate::scene::resolve(&raw, &text, origin, &dir)?;
     let bodies = crate::scene::flex_models(&raw, &text, origin)?
         .into_iter()
         .map(|m| {
@@ -527,6 +529,7 @@ pub fn generate_scene(
     let scene = SceneKernels {
         origin,
         text: &text,
+        spec: &spec,
         bodies,
     };
     emit_scene_file(&scene, type_name, runtime_path)

@@ -708,17 +708,20 @@ pub fn emit_body_file(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> S
 pub struct SceneKernels<'a> {
     /// The file as it was named (headers, errors).
     pub origin: &'a str,
-    /// Its text (embedded in the generated type).
+    /// Its text (named in the banner by its hash).
     pub text: &'a str,
+    /// The scene, resolved (carried by the generated type as data).
+    pub spec: &'a ffr_spec::scene::SceneSpec,
     /// Each flexible body's name and kernel set, in body-name order.
     pub bodies: Vec<(String, KernelSet)>,
 }
 
 /// The compiled form of a scene file: the specialized kernels of each of its
 /// flexible bodies (`{Type}{Body}Kernels`), a kernel provider and the scene
-/// type `type_name` whose `load()` builds the scene from the embedded file
-/// text with these kernels (`ffr::scene::from_str`). The runtime path must
-/// end in `::runtime` (its parent is the `ffr` crate).
+/// type `type_name` whose `spec()` is the resolved scene as data and whose
+/// `load()` builds it with these kernels (`ffr::scene::build`): nothing is
+/// parsed at start-up. The runtime path must end in `::runtime` (its parent
+/// is the `ffr` crate).
 #[cfg(feature = "scene")]
 pub fn emit_scene_file(
     scene: &SceneKernels,
@@ -763,15 +766,15 @@ pub fn emit_scene_file(
     .unwrap();
     writeln!(
         items,
-        "impl {root}::scene::KernelProvider for {type_name}Kernels {{\nfn kernels(&self, spec: &{root}::scene::FlexSpec) -> ::core::result::Result<(::std::boxed::Box<dyn {runtime_path}::ElementKernels>, &'static str), {root}::Error> {{\nmatch spec.model.name.as_str() {{\n{arms}other => ::core::result::Result::Err({root}::Error::Invalid(::std::format!(\"no compiled kernels for body `{{other}}`\"))),\n}}\n}}\n}}"
+        "impl {root}::scene::KernelProvider for {type_name}Kernels {{\nfn kernels(&self, spec: &{root}::scene::FlexSpec) -> ::core::result::Result<(::std::boxed::Box<dyn {runtime_path}::ElementKernels>, &'static str), {root}::Error> {{\nmatch spec.name.as_str() {{\n{arms}other => ::core::result::Result::Err({root}::Error::Invalid(::std::format!(\"no compiled kernels for body `{{other}}`\"))),\n}}\n}}\n}}"
     )
     .unwrap();
     writeln!(
         items,
-        "#[doc = \" The scene `{}`, compiled: its flexible bodies run the specialized kernels above.\"]\n#[derive(Clone, Copy, Debug, Default)]\npub struct {type_name};\nimpl {type_name} {{\n#[doc = \" The scene file's text.\"]\npub const SOURCE: &'static str = {:?};\n#[doc = \" The scene file as it was named.\"]\npub const ORIGIN: &'static str = {:?};\n#[doc = \" Build the scene with the compiled kernels.\"]\npub fn load() -> ::core::result::Result<{root}::scene::Scene, {root}::scene::SceneError> {{\n{root}::scene::from_str(Self::SOURCE, Self::ORIGIN, ::std::path::Path::new(\".\"), &{type_name}Kernels)\n}}\n}}",
+        "#[doc = \" The scene `{}`, compiled: its flexible bodies run the specialized kernels above.\"]\n#[derive(Clone, Copy, Debug, Default)]\npub struct {type_name};\nimpl {type_name} {{\n#[doc = \" The scene file as it was named.\"]\npub const ORIGIN: &'static str = {:?};\n#[doc = \" The scene, resolved when it was compiled (checked, names looked up, defaults filled in).\"]\n#[doc = \" Its numbers are the file's, written to read back to the same bits.\"]\n#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]\npub fn spec() -> {runtime_path}::spec::scene::SceneSpec {{\n{}\n}}\n#[doc = \" Build the scene with the compiled kernels (no file is read or parsed).\"]\npub fn load() -> ::core::result::Result<{root}::scene::Scene, {root}::scene::SceneError> {{\n{root}::scene::build(&Self::spec(), &{type_name}Kernels)\n}}\n}}",
         comment_text(origin).replace('"', "\\\""),
-        text,
-        origin
+        origin,
+        crate::scene::scene_expr(scene.spec, &format!("{runtime_path}::spec"), "Self::ORIGIN"),
     )
     .unwrap();
     Ok(header(&what, &titled, &[]) + &kernels + &pretty(&items, 0))

@@ -20,4 +20,13 @@ fn ffr_bodies() -> ffr_codegen::Builder {
         // A whole scene: the specialized kernels of its flexible bodies and
         // `TwoLinksScene::load()`, which simulates like `ffr run` on the file.
         .scene("scenes/two_links.toml")
+        // Every scene shipped with ffr, compiled the same way
+        // (tests/compiled_scene.rs checks each against `ffr run`).
+        .scene_named("builtin_free_floating", "../../scenes/free_floating.toml")
+        .scene_named("builtin_pendulum", "../../scenes/pendulum.toml")
+        .scene_named("builtin_precone", "../../scenes/precone.toml")
+        .scene_named("builtin_slider_crank", "../../scenes/slider_crank.toml")
+        .scene_named("builtin_spin_up", "../../scenes/spin_up.toml")
+        .scene_named("builtin_spin_up_modal", "../../scenes/spin_up_modal.toml")
+        .scene_named("builtin_two_link_arm", "../../scenes/two_link_arm.toml")
 }

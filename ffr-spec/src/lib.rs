@@ -3,7 +3,8 @@
 //! is fixed to a body ([`Reference`]), how a body of `N` equal elements numbers
 //! its elastic coordinates ([`Mesh`]), the body parameters ([`Params`]) and the
 //! model options ([`Formalism`], [`Stiffening`], [`SceneDim`], [`FrameModel`],
-//! together [`KernelOptions`]).
+//! together [`KernelOptions`]), and a scene as resolved data ([`scene`]:
+//! what a scene file says, checked, before anything is built from it).
 //!
 //! It has no dependencies (feature `clap`: `clap::ValueEnum` for the
 //! options), so that both sides use one definition of each
@@ -12,12 +13,16 @@
 
 mod kernel_kind;
 mod kernel_options;
+mod location;
 mod mesh;
 mod options;
 mod params;
+pub mod scene;
+pub mod text;
 
 pub use kernel_kind::KernelKind;
 pub use kernel_options::{FrameModel, KernelOptions, SceneDim};
+pub use location::Location;
 pub use mesh::{Dof, ElementCoordinate, Kind, Mesh, MeshError, Reference, MAX_ELEMENTS};
 pub use options::{Formalism, Stiffening};
 pub use params::{Param, ParamError, Params};

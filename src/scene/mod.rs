@@ -1,20 +1,34 @@
-//! Scene files: a TOML description of bodies, joints, drives, motors,
-//! forces and outputs, run by `ffr run SCENE.toml` (format: `docs/scenes.md`),
-//! or compiled into a crate by `ffr_codegen::Builder::scene`.
+//! Scenes: bodies, joints, drives, motors, forces and outputs, built into a
+//! system and run. A scene comes from a TOML file (`ffr run SCENE.toml`,
+//! format: `docs/scenes.md`; feature `scene-files`) or is compiled into a
+//! crate by `ffr_codegen::Builder::scene`, which carries the resolved scene
+//! as generated data (no file is parsed at start-up).
 //!
-//! - [`load`](mod@load): from the file to a [`Scene`], one file per TOML section;
-//! - [`model`]: the loaded scene and its output columns;
+//! - `SceneSpec` (in `ffr_spec::scene`, also [`spec`]): a scene as resolved data;
+//! - [`build`](mod@build): from a `SceneSpec` to a [`Scene`], one file per section;
+//! - `load` (feature `scene-files`): from a file to a [`Scene`];
+//! - [`model`]: the built scene and its output columns;
 //! - [`provider`]: where flexible bodies get their kernels;
 //! - [`run`](mod@run): the run and its recorded columns;
-//! - [`emit`]: a scene's specialized kernels as Rust.
+//! - `emit` (feature `scene-files`): a scene's specialized kernels as Rust.
 
+pub mod build;
+#[cfg(feature = "scene-files")]
 pub mod emit;
+#[cfg(feature = "scene-files")]
 pub mod load;
 pub mod model;
 pub mod provider;
 pub mod run;
 
-pub use load::{from_str, load, load_with, SceneError};
-pub use model::{EnergyPart, FlexSpec, Output, OutputKind, Scene, MAX_RECORDED_VALUES};
-pub use provider::{DefaultKernels, GeneralKernels, KernelProvider};
+pub use crate::error::SceneError;
+pub use crate::runtime::spec::scene as spec;
+pub use crate::runtime::spec::scene::{FlexSpec, SceneSpec};
+pub use build::build;
+#[cfg(feature = "scene-files")]
+pub use load::{from_str, load, load_with};
+pub use model::{EnergyPart, Output, OutputKind, Scene, MAX_RECORDED_VALUES};
+pub use provider::KernelProvider;
+#[cfg(feature = "scene-files")]
+pub use provider::{DefaultKernels, GeneralKernels};
 pub use run::{run, SceneRun};

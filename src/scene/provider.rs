@@ -3,7 +3,8 @@
 //! --general`), or a compiled scene's own.
 
 use super::FlexSpec;
-use crate::kernels::Kernels;
+#[cfg(feature = "scene-files")]
+use crate::kernels::{BeamSpec, Kernels};
 use crate::runtime::ElementKernels;
 
 /// Supplies the element kernels of a scene's flexible bodies: the built-in
@@ -16,30 +17,32 @@ pub trait KernelProvider {
 
 /// Built-in compiled kernels when they exist, else tapes of the body's
 /// specialized kernels.
+#[cfg(feature = "scene-files")]
 pub struct DefaultKernels;
 
 /// The general kernels whatever the scene: a spatial scene and a free
 /// frame, the body every scene could use (for comparisons with what
 /// [`DefaultKernels`] specializes; `ffr run --general`).
+#[cfg(feature = "scene-files")]
 pub struct GeneralKernels;
 
+#[cfg(feature = "scene-files")]
 impl KernelProvider for GeneralKernels {
     fn kernels(&self, spec: &FlexSpec) -> crate::Result<(Box<dyn ElementKernels>, &'static str)> {
-        let m = &spec.model;
         #[cfg(feature = "builtin-kernels")]
         if let Some(k) = crate::kernels::builtin(
-            &spec.beam.shape,
+            &spec.shape,
             3,
             true,
-            m.options.formalism,
-            m.options.stiffening,
+            spec.options.formalism,
+            spec.options.stiffening,
         ) {
             return Ok((Box::new(Kernels::Compiled(k)), "compiled, general"));
         }
-        let shape = crate::codegen::Shape::resolve(&spec.beam.shape, None)?;
+        let shape = crate::codegen::Shape::resolve(&spec.shape, None)?;
         let options = crate::runtime::spec::KernelOptions::new()
-            .formalism(m.options.formalism)
-            .stiffening(m.options.stiffening)
+            .formalism(spec.options.formalism)
+            .stiffening(spec.options.stiffening)
             .scene(crate::runtime::spec::SceneDim::Spatial);
         let model = crate::codegen::KernelModel::new(shape, options);
         let k = Kernels::Tape(Box::new(crate::runtime::tape::TapeKernels::new(&model)?));
@@ -47,12 +50,20 @@ impl KernelProvider for GeneralKernels {
     }
 }
 
+#[cfg(feature = "scene-files")]
 impl KernelProvider for DefaultKernels {
-    /// The beam's own kernels: its options are the scene's model (the
-    /// loader builds `spec.beam` from `spec.model`), so a shape file's tape
-    /// is generated once.
+    /// The beam's own kernels, with the options the scene fixes (so a
+    /// shape file's tape is generated once).
     fn kernels(&self, spec: &FlexSpec) -> crate::Result<(Box<dyn ElementKernels>, &'static str)> {
-        let k: Kernels = spec.beam.kernels()?;
+        let beam = BeamSpec {
+            shape: spec.shape.clone(),
+            elements: spec.elements,
+            reference: spec.reference,
+            options: spec.options,
+            params: spec.params,
+            force_tape: false,
+        };
+        let k: Kernels = beam.kernels()?;
         let path = k.path();
         Ok((Box::new(k), path))
     }

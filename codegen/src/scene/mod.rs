@@ -272,15 +272,7 @@ pub fn parse(text: &str, file: &str) -> Result<RawScene, Error> {
     })
 }
 
-/// The most characters of a user string (a name, a key, a marker) quoted in
-/// a message; longer ones are cut with `…`.
-pub const MAX_QUOTED_CHARS: usize = 64;
-
-/// A user string as quoted in a message: escaped and at most
-/// [`MAX_QUOTED_CHARS`] characters ([`crate::sanitize::snippet`]).
-pub fn quoted(s: &str) -> String {
-    crate::sanitize::snippet(s, MAX_QUOTED_CHARS)
-}
+pub use ffr_spec::text::{quoted, MAX_QUOTED_CHARS};
 
 /// `msg` (of the TOML parser, which quotes keys and values in full) with
 /// every `` `…` `` and `"…"` part escaped and shortened ([`quoted`]).
@@ -384,8 +376,12 @@ pub(crate) fn scene_err(text: &str, file: &str, span: Range<usize>, message: Str
     }
 }
 
+mod bake;
 mod check;
 mod model;
+mod resolve;
 
+pub use bake::scene_expr;
 pub use check::check;
 pub use model::{dimension_of, flex_models, stiffening_of, FlexBodyModel};
+pub use resolve::{resolve, resolve_file, resolve_str};

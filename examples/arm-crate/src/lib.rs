@@ -50,10 +50,18 @@ pub mod attr {
     }
 }
 
-/// Scenes from `build.rs`: `scenes/two_links.toml` compiled (its bodies'
-/// kernels specialized for the scene, the file embedded).
+/// Scenes from `build.rs`: `scenes/two_links.toml` and the scenes shipped
+/// with ffr compiled (their bodies' kernels specialized for the scene, the
+/// resolved scene as data).
 pub mod scenes {
     include!(concat!(env!("OUT_DIR"), "/two_links.rs"));
+    include!(concat!(env!("OUT_DIR"), "/builtin_free_floating.rs"));
+    include!(concat!(env!("OUT_DIR"), "/builtin_pendulum.rs"));
+    include!(concat!(env!("OUT_DIR"), "/builtin_precone.rs"));
+    include!(concat!(env!("OUT_DIR"), "/builtin_slider_crank.rs"));
+    include!(concat!(env!("OUT_DIR"), "/builtin_spin_up.rs"));
+    include!(concat!(env!("OUT_DIR"), "/builtin_spin_up_modal.rs"));
+    include!(concat!(env!("OUT_DIR"), "/builtin_two_link_arm.rs"));
 }
 
 /// Bodies from `build.rs` (see `ffr_bodies.rs`): each file defines a struct

@@ -2,20 +2,10 @@
 //! origin, a point on a beam's axis, a point fixed in a body's frame.
 
 use super::Ctx;
-use crate::codegen::scene::quoted as q;
-use crate::runtime::nalgebra::Vector3;
-use crate::runtime::{Body, BodyId, Marker, System};
-use crate::scene::SceneError;
+use crate::error::Error;
+use crate::scene::quoted as q;
+use ffr_spec::scene::{MarkerPoint, MarkerSpec};
 use toml::Spanned;
-
-/// A marker in the scene's syntax.
-#[derive(Clone, Debug)]
-pub(super) enum MarkerRef {
-    Ground(Vector3<f64>),
-    Origin(BodyId),
-    Axis(BodyId, f64),
-    Point(BodyId, Vector3<f64>),
-}
 
 /// The markers of a scene (`ground@[x, y]`, `NAME`, `NAME@x=…`,
 /// `NAME@[x, y]`), resolved against its bodies.
@@ -27,7 +17,17 @@ pub(super) struct Markers<'a> {
 }
 
 impl Markers<'_> {
-    pub(super) fn marker_ref(&self, s: &Spanned<String>) -> Result<MarkerRef, SceneError> {
+    /// The marker written as `s`.
+    pub(super) fn marker(&self, s: &Spanned<String>) -> Result<MarkerSpec, Error> {
+        Ok(MarkerSpec {
+            point: self.point(s)?,
+            text: s.get_ref().clone(),
+            at: self.c.loc(s.span()),
+        })
+    }
+
+    /// The point the marker written as `s` names.
+    pub(super) fn point(&self, s: &Spanned<String>) -> Result<MarkerPoint, Error> {
         let text = s.get_ref().trim();
         let allowed = || {
             format!(
@@ -41,7 +41,7 @@ impl Markers<'_> {
             Some((n, r)) => (n.trim(), Some(r.trim())),
             None => (text, None),
         };
-        let point = |r: &str| -> Option<Vector3<f64>> {
+        let point = |r: &str| -> Option<[f64; 3]> {
             let inner = r.strip_prefix('[')?.strip_suffix(']')?;
             let xs: Vec<f64> = inner
                 .split(',')
@@ -50,8 +50,8 @@ impl Markers<'_> {
             if xs.len() != self.dim {
                 return None;
             }
-            let mut v = Vector3::zeros();
-            v.as_mut_slice()[..self.dim].copy_from_slice(&xs);
+            let mut v = [0.0; 3];
+            v[..self.dim].copy_from_slice(&xs);
             Some(v)
         };
         if name == "ground" {
@@ -66,7 +66,7 @@ impl Markers<'_> {
                     ),
                 )
             })?;
-            return Ok(MarkerRef::Ground(p));
+            return Ok(MarkerPoint::Ground(p));
         }
         let Some(i) = self.names.iter().position(|n| n == name) else {
             return Err(self.c.err(
@@ -79,9 +79,8 @@ impl Markers<'_> {
                 ),
             ));
         };
-        let b = BodyId(i);
         match rest {
-            None => Ok(MarkerRef::Origin(b)),
+            None => Ok(MarkerPoint::Origin(i)),
             Some(r) if r.starts_with("x=") || r.starts_with("x =") => {
                 let v = r.split_once('=').map(|(_, v)| v.trim()).unwrap_or("");
                 let x: f64 = v
@@ -104,29 +103,14 @@ impl Markers<'_> {
                         format!("`{text}`: `{name}` is rigid and has no axis; give a body-frame point `{name}@[x, y{}]`", if self.dim == 3 { ", z" } else { "" }, text = q(text)),
                     ));
                 }
-                Ok(MarkerRef::Axis(b, x))
+                Ok(MarkerPoint::Axis(i, x))
             }
-            Some(r) => point(r).map(|p| MarkerRef::Point(b, p)).ok_or_else(|| {
+            Some(r) => point(r).map(|p| MarkerPoint::Point(i, p)).ok_or_else(|| {
                 self.c.err(
                     s.span(),
                     format!("`{text}`: not a marker; {}", allowed(), text = q(text)),
                 )
             }),
         }
-    }
-
-    pub(super) fn marker(
-        &self,
-        sys: &System<Box<dyn Body>>,
-        s: &Spanned<String>,
-    ) -> Result<Marker, SceneError> {
-        Ok(match self.marker_ref(s)? {
-            MarkerRef::Ground(p) => Marker::ground(p),
-            MarkerRef::Origin(b) => Marker::origin(b),
-            MarkerRef::Point(b, p) => Marker::at(b, p),
-            MarkerRef::Axis(b, x) => sys
-                .point(b, x)
-                .map_err(|e| self.c.err(s.span(), format!("`{}`: {e}", q(s.get_ref()))))?,
-        })
     }
 }

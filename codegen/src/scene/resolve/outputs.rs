@@ -1,21 +1,13 @@
-//! `[[outputs]]`: positions, deflections, velocities, angles and energies
-//! recorded at every step.
+//! `[[outputs]]`: position, deflection, velocity, angle and energy columns.
 
 use super::markers::Markers;
 use super::Ctx;
-use crate::codegen::scene::quoted as q;
-use crate::codegen::scene::RawOutput;
-use crate::runtime::nalgebra::Vector3;
-use crate::runtime::{Body, Marker, System};
-use crate::scene::SceneError;
-use crate::scene::{EnergyPart, Output, OutputKind};
+use crate::error::Error;
+use crate::scene::quoted as q;
+use crate::scene::RawOutput;
+use ffr_spec::scene::{EnergyPart, MarkerPoint, OutputKind, OutputSpec};
 
-pub(super) fn output(
-    c: &Ctx,
-    b: &Markers,
-    sys: &System<Box<dyn Body>>,
-    o: &RawOutput,
-) -> Result<Output, SceneError> {
+pub(super) fn output(c: &Ctx, b: &Markers, o: &RawOutput) -> Result<OutputSpec, Error> {
     let r = o;
     let name = r.name.get_ref().clone();
     if name.is_empty()
@@ -25,7 +17,7 @@ pub(super) fn output(
     {
         return Err(c.err(r.name.span(), "an output name must be non-empty without commas, quotes or control characters (it is a CSV column)"));
     }
-    let comp = |dflt: Option<usize>| -> Result<usize, SceneError> {
+    let comp = |dflt: Option<usize>| -> Result<usize, Error> {
         match &r.component {
             None => dflt.ok_or_else(|| {
                 c.err(
@@ -76,19 +68,19 @@ pub(super) fn output(
                 Some("dissipated") => EnergyPart::Dissipated,
                 Some(other) => return Err(c.err(r.component.as_ref().expect("some").span(), format!("energy `component` is total, kinetic, elastic, gravity, springs, work or dissipated — found `{other}`", other = q(other)))),
             };
-            return Ok(Output { name, kind: OutputKind::Energy(part), marker: Marker::ground(Vector3::zeros()), relative_to: None });
+            return Ok(OutputSpec { name, kind: OutputKind::Energy(part), at: None, relative_to: None });
         }
         other => return Err(c.err(r.kind.span(), format!("unknown output kind `{other}`: expected position, deflection, angle, velocity or energy", other = q(other)))),
     };
-    let marker = b.marker(sys, at()?)?;
-    if matches!(kind, OutputKind::Deflection(_)) && marker.body.is_none() {
+    let marker = b.marker(at()?)?;
+    if matches!(kind, OutputKind::Deflection(_)) && matches!(marker.point, MarkerPoint::Ground(_)) {
         return Err(c.err(
             at()?.span(),
             "a deflection is measured on a body, not on the ground",
         ));
     }
     let relative_to = match &r.a {
-        Some(a) if kind == OutputKind::Angle => Some(b.marker(sys, a)?),
+        Some(a) if kind == OutputKind::Angle => Some(b.marker(a)?),
         Some(a) => {
             return Err(c.err(
                 a.span(),
@@ -97,10 +89,10 @@ pub(super) fn output(
         }
         None => None,
     };
-    Ok(Output {
+    Ok(OutputSpec {
         name,
         kind,
-        marker,
+        at: Some(marker),
         relative_to,
     })
 }

@@ -4,10 +4,10 @@
 
 use super::Ctx;
 use super::{fin_f64, pos_f64};
-use crate::codegen::scene::quoted as q;
-use crate::codegen::scene::RawProfile;
-use crate::runtime::Driver;
-use crate::scene::SceneError;
+use crate::error::Error;
+use crate::scene::quoted as q;
+use crate::scene::RawProfile;
+use ffr_spec::scene::ProfileSpec;
 use toml::Spanned;
 
 pub(super) fn profile(
@@ -16,7 +16,7 @@ pub(super) fn profile(
     key: &str,
     t_end: f64,
     who: &str,
-) -> Result<Driver, SceneError> {
+) -> Result<ProfileSpec, Error> {
     profile_at(c, p.span(), p.get_ref(), key, t_end, who)
 }
 
@@ -28,10 +28,10 @@ pub(super) fn profile_at(
     key: &str,
     t_end: f64,
     who: &str,
-) -> Result<Driver, SceneError> {
+) -> Result<ProfileSpec, Error> {
     // Bounds of |f|, |ḟ|, |f̈| on [0, t_end]: each must be finite, or the
     // prescribed motion overflows during the run.
-    let bounded = |bounds: &[(&str, f64)]| -> Result<(), SceneError> {
+    let bounded = |bounds: &[(&str, f64)]| -> Result<(), Error> {
         match bounds.iter().find(|(_, b)| !b.is_finite()) {
             None => Ok(()),
             Some((what, b)) => Err(c.err(
@@ -47,7 +47,7 @@ pub(super) fn profile_at(
         _ => r.slide.as_ref(),
     }
     .ok_or_else(|| c.err(span.clone(), format!("the drive needs `{key} = \"…\"`: one of spin-up, constant-rate, constant, harmonic")))?;
-    let need = |v: &Option<Spanned<f64>>, what: &str| -> Result<f64, SceneError> {
+    let need = |v: &Option<Spanned<f64>>, what: &str| -> Result<f64, Error> {
         v.as_ref()
             .ok_or_else(|| {
                 c.err(
@@ -57,7 +57,7 @@ pub(super) fn profile_at(
             })
             .and_then(|x| fin_f64(c, x, what))
     };
-    let opt = |v: &Option<Spanned<f64>>, what: &str, d: f64| -> Result<f64, SceneError> {
+    let opt = |v: &Option<Spanned<f64>>, what: &str, d: f64| -> Result<f64, Error> {
         v.as_ref().map_or(Ok(d), |x| fin_f64(c, x, what))
     };
     match name.get_ref().as_str() {
@@ -77,7 +77,7 @@ pub(super) fn profile_at(
                 ("rate (2 omega)", 2.0 * omega.abs()),
                 ("acceleration (2 omega/ramp)", 2.0 * omega.abs() / ramp),
             ])?;
-            Ok(Driver::spin_up(omega, ramp).map(move |[f, fd, fdd]| [start + f, fd, fdd]))
+            Ok(ProfileSpec::SpinUp { omega, ramp, start })
         }
         "constant-rate" => {
             let w = r
@@ -96,9 +96,9 @@ pub(super) fn profile_at(
                 ("value (start + omega t_end)", start.abs() + w.abs() * t_end),
                 ("rate (omega)", w.abs()),
             ])?;
-            Ok(Driver::linear(start, w))
+            Ok(ProfileSpec::ConstantRate { start, rate: w })
         }
-        "constant" => Ok(Driver::constant(need(&r.value, "value")?)),
+        "constant" => Ok(ProfileSpec::Constant(need(&r.value, "value")?)),
         "harmonic" => {
             let start = opt(&r.start, "start", 0.0)?;
             let a = need(&r.amplitude, "amplitude")?;
@@ -114,7 +114,12 @@ pub(super) fn profile_at(
                     w * t_end + phase.abs(),
                 ),
             ])?;
-            Ok(Driver::harmonic(start, a, nu, phase))
+            Ok(ProfileSpec::Harmonic {
+                start,
+                amplitude: a,
+                frequency: nu,
+                phase,
+            })
         }
         other => Err(c.err(
             name.span(),

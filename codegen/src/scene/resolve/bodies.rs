@@ -1,40 +1,30 @@
 //! `[bodies.NAME]`: rigid and flexible bodies, their poses, damping,
 //! initial velocities and elastic states.
 
-use super::{fin_f64, pos_f64, vec_n, Ctx, Env, Parts};
-use crate::codegen::scene::quoted as q;
-use crate::codegen::scene::RawBody;
-use crate::codegen::scene::RawScene;
-use crate::kernels::BeamSpec;
-use crate::runtime::nalgebra::{Matrix3, Unit, UnitQuaternion};
-use crate::runtime::nalgebra::{Vector2, Vector3};
-use crate::runtime::spec::Params;
-use crate::runtime::spec::{Param, Reference};
-use crate::runtime::Pose;
-use crate::runtime::{Body, KernelBody, Rayleigh, RigidBody};
-use crate::scene::{FlexSpec, SceneError};
+use super::{fin_f64, pos_f64, vec_n, Ctx};
+use crate::error::Error;
+use crate::scene::quoted as q;
+use crate::scene::{FlexBodyModel, RawBody, RawLabelled, RawScene};
+use ffr_spec::scene::{BodyKind, BodySpec, ElasticSpec, FlexSpec, ModalSettings, Orientation};
+use ffr_spec::{Param, Params, Reference};
 use std::ops::Range;
+use std::path::Path;
 use toml::Spanned;
 
-/// Add the scene's bodies to the system, in file order.
-pub(super) fn add_bodies(
+/// The scene's bodies, in file order.
+pub(super) fn bodies(
     c: &Ctx,
     raw: &RawScene,
-    env: &Env,
-    parts: &mut Parts,
-) -> Result<(), SceneError> {
-    let (dim, base, provider, models) = (env.dim, env.base, env.provider, env.models);
-    let Parts {
-        sys,
-        kernels: kernels_used,
-        flex,
-        ..
-    } = parts;
-    for (name, body) in &raw.bodies {
-        let (name_s, rb) = (name.get_ref(), body);
-        let span = body.span().unwrap_or(0..0);
-        let pose = pose(c, rb, dim, span.clone())?;
-        let boxed: Box<dyn Body> = if let Some(m) = &rb.mass {
+    dim: usize,
+    base: &Path,
+    models: &[FlexBodyModel],
+) -> Result<Vec<BodySpec>, Error> {
+    let mut out = Vec::new();
+    for (name, rb) in &raw.bodies {
+        let name_s = name.get_ref();
+        let span = rb.span().unwrap_or(0..0);
+        let (position, orientation) = pose(c, rb, dim)?;
+        let kind = if let Some(m) = &rb.mass {
             for (k, v) in [
                 ("shape", rb.shape.is_some()),
                 ("elements", rb.elements.is_some()),
@@ -45,12 +35,12 @@ pub(super) fn add_bodies(
                 }
             }
             let mass = pos_f64(c, m, "mass")?;
-            let com = match &rb.centre {
+            let centre = match &rb.centre {
                 Some(v) => vec_n(c, v, dim, "centre")?,
-                None => Vector3::zeros(),
+                None => [0.0; 3],
             };
             let inertia = rb.inertia.as_ref().ok_or_else(|| c.err(span.clone(), format!("rigid body `{name_s}` needs `inertia` (planar: a number about the centre of mass; spatial: [Ixx, Iyy, Izz] or a 3×3 table)")))?;
-            let rbody = if dim == 2 {
+            let inertia = if dim == 2 {
                 let j = inertia
                     .get_ref()
                     .as_float()
@@ -61,14 +51,15 @@ pub(super) fn add_bodies(
                             "planar `inertia` is one number (kg m², about the centre of mass)",
                         )
                     })?;
-                RigidBody::planar(mass, j, Vector2::new(com.x, com.y))
+                [[0.0; 3], [0.0; 3], [0.0, 0.0, j]]
             } else {
-                let m3 = inertia3(c, inertia)?;
-                RigidBody::spatial(mass, m3, com)
+                inertia3(c, inertia)?
+            };
+            BodyKind::Rigid {
+                mass,
+                inertia,
+                centre,
             }
-            .map_err(|e| c.err(span.clone(), format!("body `{name_s}`: {e}")))?;
-            kernels_used.push((name_s.clone(), "rigid".to_string()));
-            Box::new(rbody)
         } else {
             let shape = rb.shape.as_ref().ok_or_else(|| c.err(span.clone(), format!("body `{name_s}` needs `shape = \"beam2\"` (flexible) or `mass = …` (rigid)")))?;
             let elements = rb.elements.as_ref().ok_or_else(|| {
@@ -78,10 +69,13 @@ pub(super) fn add_bodies(
                 )
             })?;
             let n = *elements.get_ref();
-            if !(1..=ffr_spec_max() as i64).contains(&n) {
+            if !(1..=ffr_spec::MAX_ELEMENTS as i64).contains(&n) {
                 return Err(c.err(
                     elements.span(),
-                    format!("`elements` must be 1 to {}, found {n}", ffr_spec_max()),
+                    format!(
+                        "`elements` must be 1 to {}, found {n}",
+                        ffr_spec::MAX_ELEMENTS
+                    ),
                 ));
             }
             let reference = match &rb.reference {
@@ -99,123 +93,69 @@ pub(super) fn add_bodies(
             let model = models
                 .iter()
                 .find(|m| &m.name == name_s)
-                .expect("every flexible body has a model")
-                .clone();
-            let stiffening = model.options.stiffening;
+                .expect("every flexible body has a model");
             let modal = modal_settings(c, name_s, rb, n as usize)?;
             let (params, given, params_span) = parse_params(c, name_s, rb, span.clone())?;
             let shape_s = shape.get_ref();
-            let resolved = if crate::codegen::Shape::builtin(shape_s).is_some() {
+            let resolved = if crate::Shape::builtin(shape_s).is_some() {
                 shape_s.clone()
             } else {
                 base.join(shape_s).display().to_string()
             };
-            let beam = BeamSpec {
+            BodyKind::Flexible(FlexSpec {
+                name: name_s.clone(),
                 shape: resolved,
+                shape_name: shape_s.clone(),
+                shape_at: c.loc(shape.span()),
                 elements: n as usize,
                 reference,
                 // The scene's model: what it fixes, carried unchanged.
                 options: model.options,
                 params,
-                force_tape: false,
-            };
-            let spec = FlexSpec { model, beam };
-            let (kernels, path) = provider
-                .kernels(&spec)
-                .map_err(|e| c.err(shape.span(), format!("body `{name_s}`: {e}")))?;
-            let dimension = kernels.info().dim;
-            if dimension > dim {
-                return Err(c.err(shape.span(), format!("body `{name_s}`: shape `{shape_s}` is spatial; a planar scene needs a planar shape", shape_s = q(shape_s))));
-            }
-            // A parameter the body uses must be given (a missing one would
-            // be reported as zero).
-            let used = &kernels.info().params_used;
-            if let Some(missing) = Param::FIELDS
-                .iter()
-                .enumerate()
-                .find(|(i, f)| !given[*i] && used.contains(f))
-            {
-                let names: Vec<&str> = used.iter().map(|p| p.field()).collect();
-                return Err(c.err(
-                    params_span,
-                    format!(
-                        "body `{name_s}`: `params` needs `{}`: shape `{shape_s}` in this scene uses {}",
-                        missing.1.field(),
-                        names.join(", "), shape_s = q(shape_s)),
-                ));
-            }
-            let kb = KernelBody::new(kernels, params, n as usize, reference)
-                .map_err(|e| c.err(span.clone(), format!("body `{name_s}`: {e}")))?;
-            let boxed: Box<dyn Body> = match &modal {
-                None => {
-                    kernels_used.push((name_s.clone(), path.to_string()));
-                    Box::new(kb)
-                }
-                Some((settings, modes_span)) => {
-                    let b = &spec.beam;
-                    let mb = crate::modal::ReducibleBody::from_parts(
-                        &b.shape,
-                        b.elements,
-                        b.reference,
-                        b.options.formalism,
-                        b.params,
-                    )
-                    .and_then(|r| r.runtime_body(settings, stiffening, Box::new(kb)))
-                    .map_err(|e| c.err(modes_span.clone(), format!("body `{name_s}`: {e}")))?;
-                    kernels_used.push((
-                        name_s.clone(),
-                        format!(
-                            "modal, {} modes ({path} full body for markers)",
-                            mb.layout().nf
-                        ),
-                    ));
-                    Box::new(mb)
-                }
-            };
-            flex.push(spec);
-            boxed
+                given,
+                params_at: c.loc(params_span),
+                modal: modal.map(|(s, span)| (s, c.loc(span))),
+            })
         };
-        let id = sys
-            .add_body(name_s, boxed, pose)
-            .map_err(|e| c.err(span.clone(), e.to_string()))?;
-        if let Some(d) = &rb.damping {
-            if rigid_body(rb) {
-                return Err(c.err(
-                    d.span(),
-                    format!("body `{name_s}` is rigid: `damping` is for elastic coordinates"),
-                ));
-            }
-            let r = Rayleigh {
-                alpha: d
+        let rigid = rigid_body(rb);
+        let damping = match &rb.damping {
+            None => None,
+            Some(d) => {
+                if rigid {
+                    return Err(c.err(
+                        d.span(),
+                        format!("body `{name_s}` is rigid: `damping` is for elastic coordinates"),
+                    ));
+                }
+                let alpha = d
                     .get_ref()
                     .alpha
                     .as_ref()
-                    .map_or(Ok(0.0), |x| fin_f64(c, x, "alpha"))?,
-                beta: d
+                    .map_or(Ok(0.0), |x| fin_f64(c, x, "alpha"))?;
+                let beta = d
                     .get_ref()
                     .beta
                     .as_ref()
-                    .map_or(Ok(0.0), |x| fin_f64(c, x, "beta"))?,
-            };
-            sys.set_damping(id, r)
-                .map_err(|e| c.err(d.span(), e.to_string()))?;
-        }
-        let v = match &rb.velocity {
-            Some(v) => vec_n(c, v, dim, "velocity")?,
-            None => Vector3::zeros(),
+                    .map_or(Ok(0.0), |x| fin_f64(c, x, "beta"))?;
+                Some((alpha, beta, c.loc(d.span())))
+            }
         };
-        let w = match &rb.omega {
-            None => Vector3::zeros(),
+        let velocity = match &rb.velocity {
+            Some(v) => vec_n(c, v, dim, "velocity")?,
+            None => [0.0; 3],
+        };
+        let omega = match &rb.omega {
+            None => [0.0; 3],
             Some(o) => match (dim, o.get_ref()) {
-                (2, toml::Value::Float(x)) => Vector3::new(0.0, 0.0, *x),
-                (2, toml::Value::Integer(x)) => Vector3::new(0.0, 0.0, *x as f64),
+                (2, toml::Value::Float(x)) => [0.0, 0.0, *x],
+                (2, toml::Value::Integer(x)) => [0.0, 0.0, *x as f64],
                 (3, toml::Value::Array(a)) if a.len() == 3 => {
                     let xs: Option<Vec<f64>> = a
                         .iter()
                         .map(|x| x.as_float().or_else(|| x.as_integer().map(|i| i as f64)))
                         .collect();
                     let xs = xs.ok_or_else(|| c.err(o.span(), "`omega` must be three numbers"))?;
-                    Vector3::new(xs[0], xs[1], xs[2])
+                    [xs[0], xs[1], xs[2]]
                 }
                 _ => {
                     return Err(c.err(
@@ -229,44 +169,46 @@ pub(super) fn add_bodies(
                 }
             },
         };
-        if v.norm() > 0.0 || w.norm() > 0.0 {
-            sys.set_velocity(id, v, w)
-                .map_err(|e| c.err(span.clone(), e.to_string()))?;
-        }
-        if let Some(el) = &rb.elastic {
-            if rigid_body(rb) {
-                return Err(c.err(
-                    el.span(),
-                    format!("body `{name_s}` is rigid: `elastic` is the initial state of a flexible body"),
-                ));
-            }
-            let labels = sys.body(id).layout().labels.clone();
-            let by_label = |t: &Option<Spanned<crate::codegen::scene::RawLabelled>>,
-                            what: &str|
-             -> Result<Vec<f64>, SceneError> {
-                let mut out = vec![0.0; labels.len()];
-                for (k, x) in t.iter().flat_map(|t| t.get_ref()) {
-                    let Some(i) = labels.iter().position(|l| l == k.get_ref()) else {
-                        return Err(c.err(
-                            k.span(),
-                            format!(
-                                "body `{name_s}` has no elastic coordinate `{}`; its coordinates are {}",
-                                q(k.get_ref()),
-                                labels.join(", ")
-                            ),
-                        ));
-                    };
-                    out[i] = fin_f64(c, x, &format!("{what}.{}", k.get_ref()))?;
+        let elastic = match &rb.elastic {
+            None => None,
+            Some(el) => {
+                if rigid {
+                    return Err(c.err(
+                        el.span(),
+                        format!("body `{name_s}` is rigid: `elastic` is the initial state of a flexible body"),
+                    ));
                 }
-                Ok(out)
-            };
-            let q_f = by_label(&el.get_ref().q, "q")?;
-            let qd_f = by_label(&el.get_ref().qd, "qd")?;
-            sys.set_elastic(id, &q_f, &qd_f)
-                .map_err(|e| c.err(el.span(), e.to_string()))?;
-        }
+                let entries =
+                    |t: &Option<Spanned<RawLabelled>>,
+                     what: &str|
+                     -> Result<Vec<(String, f64, ffr_spec::Location)>, Error> {
+                        let mut out = Vec::new();
+                        for (k, x) in t.iter().flat_map(|t| t.get_ref()) {
+                            let v = fin_f64(c, x, &format!("{what}.{}", k.get_ref()))?;
+                            out.push((k.get_ref().clone(), v, c.loc(k.span())));
+                        }
+                        Ok(out)
+                    };
+                Some(ElasticSpec {
+                    at: c.loc(el.span()),
+                    q: entries(&el.get_ref().q, "q")?,
+                    qd: entries(&el.get_ref().qd, "qd")?,
+                })
+            }
+        };
+        out.push(BodySpec {
+            name: name_s.clone(),
+            at: c.loc(span),
+            kind,
+            position,
+            orientation,
+            damping,
+            velocity,
+            omega,
+            elastic,
+        });
     }
-    Ok(())
+    Ok(out)
 }
 
 const PARAMS: &str = "length, rho, area, iy, iz, e, g, j";
@@ -276,7 +218,7 @@ fn parse_params(
     body: &str,
     raw: &RawBody,
     span: Range<usize>,
-) -> Result<(Params, [bool; 8], Range<usize>), SceneError> {
+) -> Result<(Params, [bool; 8], Range<usize>), Error> {
     let Some(p) = &raw.params else {
         return Err(c.err(
             span,
@@ -308,11 +250,7 @@ fn rigid_body(rb: &RawBody) -> bool {
     rb.mass.is_some()
 }
 
-fn ffr_spec_max() -> usize {
-    crate::runtime::spec::MAX_ELEMENTS
-}
-
-fn inertia3(c: &Ctx, v: &Spanned<toml::Value>) -> Result<Matrix3<f64>, SceneError> {
+fn inertia3(c: &Ctx, v: &Spanned<toml::Value>) -> Result<[[f64; 3]; 3], Error> {
     let num = |x: &toml::Value| x.as_float().or_else(|| x.as_integer().map(|i| i as f64));
     let bad = || {
         c.err(v.span(), "spatial `inertia` is [Ixx, Iyy, Izz] or a 3×3 table [[…], […], […]] (kg m², about the centre of mass)")
@@ -320,14 +258,14 @@ fn inertia3(c: &Ctx, v: &Spanned<toml::Value>) -> Result<Matrix3<f64>, SceneErro
     let a = v.get_ref().as_array().ok_or_else(bad)?;
     if a.len() == 3 && a.iter().all(|x| num(x).is_some()) {
         let d: Vec<f64> = a.iter().map(|x| num(x).expect("checked")).collect();
-        return Ok(Matrix3::from_diagonal(&Vector3::new(d[0], d[1], d[2])));
+        return Ok([[d[0], 0.0, 0.0], [0.0, d[1], 0.0], [0.0, 0.0, d[2]]]);
     }
     if a.len() == 3 {
-        let mut m = Matrix3::zeros();
+        let mut m = [[0.0; 3]; 3];
         for (i, row) in a.iter().enumerate() {
             let r = row.as_array().filter(|r| r.len() == 3).ok_or_else(bad)?;
             for (j, x) in r.iter().enumerate() {
-                m[(i, j)] = num(x).ok_or_else(bad)?;
+                m[i][j] = num(x).ok_or_else(bad)?;
             }
         }
         return Ok(m);
@@ -335,10 +273,10 @@ fn inertia3(c: &Ctx, v: &Spanned<toml::Value>) -> Result<Matrix3<f64>, SceneErro
     Err(bad())
 }
 
-fn pose(c: &Ctx, rb: &RawBody, dim: usize, span: Range<usize>) -> Result<Pose, SceneError> {
+fn pose(c: &Ctx, rb: &RawBody, dim: usize) -> Result<([f64; 3], Orientation), Error> {
     let p = match &rb.position {
         Some(v) => vec_n(c, v, dim, "position")?,
-        None => Vector3::zeros(),
+        None => [0.0; 3],
     };
     if dim == 2 {
         if let Some(o) = &rb.orientation {
@@ -348,7 +286,7 @@ fn pose(c: &Ctx, rb: &RawBody, dim: usize, span: Range<usize>) -> Result<Pose, S
             .angle
             .as_ref()
             .map_or(Ok(0.0), |x| fin_f64(c, x, "angle"))?;
-        Ok(Pose::planar(p.x, p.y, a))
+        Ok((p, Orientation::Planar(a)))
     } else {
         if let Some(a) = &rb.angle {
             return Err(c.err(
@@ -356,19 +294,18 @@ fn pose(c: &Ctx, rb: &RawBody, dim: usize, span: Range<usize>) -> Result<Pose, S
                 "a spatial body has `orientation = { axis = [x, y, z], angle = … }`, not `angle`",
             ));
         }
-        let q = match &rb.orientation {
-            None => UnitQuaternion::identity(),
+        let o = match &rb.orientation {
+            None => Orientation::Identity,
             Some(o) => {
-                let ax = vec_n(c, &o.get_ref().axis, 3, "axis")?;
-                if ax.norm() == 0.0 {
+                let axis = vec_n(c, &o.get_ref().axis, 3, "axis")?;
+                if axis.iter().all(|x| *x == 0.0) {
                     return Err(c.err(o.get_ref().axis.span(), "`axis` must not be zero"));
                 }
-                let ang = fin_f64(c, &o.get_ref().angle, "angle")?;
-                UnitQuaternion::from_axis_angle(&Unit::new_normalize(ax), ang)
+                let angle = fin_f64(c, &o.get_ref().angle, "angle")?;
+                Orientation::AxisAngle { axis, angle }
             }
         };
-        let _ = span;
-        Ok(Pose::spatial(p, q))
+        Ok((p, o))
     }
 }
 
@@ -379,9 +316,9 @@ fn pose(c: &Ctx, rb: &RawBody, dim: usize, span: Range<usize>) -> Result<Pose, S
 fn modal_settings(
     c: &Ctx,
     name: &str,
-    rb: &crate::codegen::scene::RawBody,
+    rb: &RawBody,
     elements: usize,
-) -> Result<Option<(crate::modal::ModalSettings, std::ops::Range<usize>)>, SceneError> {
+) -> Result<Option<(ModalSettings, Range<usize>)>, Error> {
     let Some(modes) = &rb.modes else {
         for (key, span) in [
             ("reduction", rb.reduction.as_ref().map(|x| x.span())),
@@ -474,7 +411,7 @@ fn modal_settings(
         }
     };
     Ok(Some((
-        crate::modal::ModalSettings {
+        ModalSettings {
             modes: k as usize,
             boundary,
             static_modes: rb.static_modes.as_ref().is_none_or(|s| *s.get_ref()),

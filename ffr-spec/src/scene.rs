@@ -1,0 +1,441 @@
+//! A scene as resolved data: what a scene file says once it is read and
+//! checked (names looked up, markers parsed, profiles and motors chosen,
+//! defaults filled in), before anything is built from it.
+//!
+//! The scene loader produces it from a file; a compiled scene carries it as
+//! generated data (no file is parsed at start-up); the library builds the
+//! runtime system from it. Every part keeps the [`Location`] of what it came
+//! from, so that what only the build can refuse (a joint that does not
+//! close, a parameter the body's kernels need) is still reported at
+//! `file:line:column`.
+
+use crate::{KernelOptions, Location, Params, Reference};
+
+/// The most values a scene run records (`t` and every output at every
+/// step), checked when a scene is resolved: 2²⁵ values (256 MiB as numbers,
+/// about 0.7 GB as CSV text).
+pub const MAX_RECORDED_VALUES: usize = 1 << 25;
+
+/// A scene, resolved.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneSpec {
+    /// The file it came from (as named).
+    pub origin: String,
+    /// Its description line, if any.
+    pub description: Option<String>,
+    /// 2 (planar) or 3 (spatial).
+    pub dim: usize,
+    /// End time (s).
+    pub t_end: f64,
+    /// Step (s).
+    pub dt: f64,
+    /// Where `dt` is written (the initial state's refusals point here when
+    /// no joint is to blame).
+    pub dt_at: Location,
+    /// The integrator and its settings.
+    pub integrator: IntegratorSpec,
+    /// Gravity (m/s², zero-padded to 3 components) and where it is written.
+    pub gravity: Option<([f64; 3], Location)>,
+    /// The bodies, in file order (name order).
+    pub bodies: Vec<BodySpec>,
+    /// The joints, in file order.
+    pub joints: Vec<JointSpec>,
+    /// The forces, in file order.
+    pub forces: Vec<ForceSpec>,
+    /// The output columns after `t`, in file order.
+    pub outputs: Vec<OutputSpec>,
+}
+
+/// The integrator; a setting left out keeps the runtime's default.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum IntegratorSpec {
+    /// Implicit generalized-α.
+    GeneralizedAlpha {
+        /// Spectral radius at infinity, in [0, 1].
+        rho_inf: Option<f64>,
+        /// Relative Newton tolerance, in (0, 1).
+        rtol: Option<f64>,
+    },
+    /// Explicit RK4 with Baumgarte stabilization.
+    Rk4 {
+        /// Baumgarte's α.
+        alpha: Option<f64>,
+        /// Baumgarte's β.
+        beta: Option<f64>,
+    },
+}
+
+impl Default for IntegratorSpec {
+    fn default() -> Self {
+        IntegratorSpec::GeneralizedAlpha {
+            rho_inf: None,
+            rtol: None,
+        }
+    }
+}
+
+/// A body.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodySpec {
+    /// Its name (`[bodies.NAME]`).
+    pub name: String,
+    /// Where its table is.
+    pub at: Location,
+    /// Rigid or flexible.
+    pub kind: BodyKind,
+    /// Frame position (zero-padded to 3 components).
+    pub position: [f64; 3],
+    /// Frame orientation.
+    pub orientation: Orientation,
+    /// Rayleigh damping `alpha M + beta K` of the elastic coordinates, and
+    /// where it is written.
+    pub damping: Option<(f64, f64, Location)>,
+    /// Initial frame velocity (global, zero-padded).
+    pub velocity: [f64; 3],
+    /// Initial angular velocity (global; planar: about z).
+    pub omega: [f64; 3],
+    /// Initial elastic state by coordinate label.
+    pub elastic: Option<ElasticSpec>,
+}
+
+/// A frame orientation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Orientation {
+    /// Planar: an angle about z (rad).
+    Planar(f64),
+    /// Spatial: aligned with the global axes.
+    Identity,
+    /// Spatial: a rotation by `angle` (rad) about `axis` (not zero; need not
+    /// be a unit vector).
+    AxisAngle {
+        /// The axis.
+        axis: [f64; 3],
+        /// The angle (rad).
+        angle: f64,
+    },
+}
+
+/// What a body is made of.
+// Built once per scene and read once: the size of a variant does not matter.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug, PartialEq)]
+pub enum BodyKind {
+    /// A rigid body.
+    Rigid {
+        /// Mass (kg, > 0).
+        mass: f64,
+        /// Inertia about the centre of mass (planar: `[[0, 0, 0], [0, 0, 0],
+        /// [0, 0, J]]`).
+        inertia: [[f64; 3]; 3],
+        /// Centre of mass in the body frame (zero-padded).
+        centre: [f64; 3],
+    },
+    /// A flexible body.
+    Flexible(FlexSpec),
+}
+
+/// A flexible body: the beam, what the scene fixes for its kernels, and its
+/// modal reduction, if any.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlexSpec {
+    /// The body's name.
+    pub name: String,
+    /// The shape: a built-in name, or a file path resolved against the
+    /// scene file's directory.
+    pub shape: String,
+    /// The shape as the scene file writes it (for messages).
+    pub shape_name: String,
+    /// Where the shape is written.
+    pub shape_at: Location,
+    /// Number of equal elements.
+    pub elements: usize,
+    /// How the frame is fixed to the body.
+    pub reference: Reference,
+    /// The kernel options (with what the scene fixes).
+    pub options: KernelOptions,
+    /// The parameters (those not given are zero).
+    pub params: Params,
+    /// Which of [`crate::Param::FIELDS`] the scene gives.
+    pub given: [bool; 8],
+    /// Where `params` is written.
+    pub params_at: Location,
+    /// A modal reduction, and where `modes` is written.
+    pub modal: Option<(ModalSettings, Location)>,
+}
+
+/// How a flexible body is reduced.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModalSettings {
+    /// Normal modes kept: the lowest eigenmodes (modal truncation) or
+    /// fixed-interface modes (Craig–Bampton).
+    pub modes: usize,
+    /// Craig–Bampton boundary nodes; empty: modal truncation.
+    pub boundary: Vec<usize>,
+    /// Add the static modes (inertia loads of the frame's motion and, with
+    /// stiffening, the modal derivatives).
+    pub static_modes: bool,
+    /// Damping ratios `ζ` of the normal modes: none, one for every normal
+    /// mode, or one per normal mode; `D = diag(2 ζ_i ω_i)` on them (the other
+    /// modes are undamped).
+    pub damping: Vec<f64>,
+}
+
+impl ModalSettings {
+    /// `modes` normal modes of a modal truncation with static modes, no damping.
+    pub fn truncation(modes: usize) -> Self {
+        Self {
+            modes,
+            boundary: Vec::new(),
+            static_modes: true,
+            damping: Vec::new(),
+        }
+    }
+}
+
+/// A flexible body's initial elastic state, by coordinate label (the
+/// coordinates not named start at zero).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ElasticSpec {
+    /// Where `elastic` is written.
+    pub at: Location,
+    /// `q_f` entries: label, value, where the label is written.
+    pub q: Vec<(String, f64, Location)>,
+    /// `q̇_f` entries.
+    pub qd: Vec<(String, f64, Location)>,
+}
+
+/// A marker as a scene writes it, with its text (for messages) and where it
+/// is written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MarkerSpec {
+    /// What it names.
+    pub point: MarkerPoint,
+    /// The text as written (`hub@[0.5, 0]`).
+    pub text: String,
+    /// Where.
+    pub at: Location,
+}
+
+/// The point a marker names (bodies by index in [`SceneSpec::bodies`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MarkerPoint {
+    /// A point on the ground (`ground@[x, y]`).
+    Ground([f64; 3]),
+    /// A body's frame origin (`NAME`).
+    Origin(usize),
+    /// A point on a beam's axis (`NAME@x=…`).
+    Axis(usize, f64),
+    /// A point fixed in a body's frame (`NAME@[x, y]`).
+    Point(usize, [f64; 3]),
+}
+
+/// A prescribed motion `f(t)` (an angle or a slide) with its rate and
+/// acceleration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ProfileSpec {
+    /// `start + ` the smooth spin-up to rate `omega` over `ramp` s.
+    SpinUp {
+        /// Final rate.
+        omega: f64,
+        /// Ramp time (s, > 0).
+        ramp: f64,
+        /// Value at `t = 0`.
+        start: f64,
+    },
+    /// `start + rate t`.
+    ConstantRate {
+        /// Value at `t = 0`.
+        start: f64,
+        /// Rate.
+        rate: f64,
+    },
+    /// A constant value.
+    Constant(f64),
+    /// `start + amplitude sin(2π frequency t + phase)`.
+    Harmonic {
+        /// Mean value.
+        start: f64,
+        /// Amplitude.
+        amplitude: f64,
+        /// Frequency (Hz).
+        frequency: f64,
+        /// Phase (rad).
+        phase: f64,
+    },
+}
+
+/// A joint's kind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum JointKind {
+    /// Fixes body `b`'s frame where it starts.
+    Ground,
+    /// Fixes `b` to `a`.
+    Fixed,
+    /// A hinge about z (planar) or about `a`'s z axis.
+    Revolute,
+    /// A ball joint (spatial).
+    Spherical,
+    /// A slider along `a`'s x axis.
+    Prismatic,
+}
+
+impl JointKind {
+    /// The kind as a scene file writes it (`revolute`).
+    pub fn name(self) -> &'static str {
+        match self {
+            JointKind::Ground => "ground",
+            JointKind::Fixed => "fixed",
+            JointKind::Revolute => "revolute",
+            JointKind::Spherical => "spherical",
+            JointKind::Prismatic => "prismatic",
+        }
+    }
+}
+
+/// A motor in a revolute joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MotorSpec {
+    /// A constant torque (N m).
+    Torque(f64),
+    /// A PD law towards a target angle.
+    Pd {
+        /// The target angle.
+        target: ProfileSpec,
+        /// Stiffness gain (N m/rad, ≥ 0).
+        kp: f64,
+        /// Damping gain (N m s/rad, ≥ 0).
+        kd: f64,
+    },
+}
+
+/// A joint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointSpec {
+    /// Its kind.
+    pub kind: JointKind,
+    /// Where the joint's table is.
+    pub at: Location,
+    /// Where `kind` is written.
+    pub kind_at: Location,
+    /// Marker `a` (none for a ground joint).
+    pub a: Option<MarkerSpec>,
+    /// Marker `b`.
+    pub b: MarkerSpec,
+    /// A drive (revolute: angle; prismatic: slide), and where it is written.
+    pub drive: Option<(ProfileSpec, Location)>,
+    /// A motor (revolute), and where it is written.
+    pub motor: Option<(MotorSpec, Location)>,
+    /// `Some(body)`: a revolute joint to the ground at the body's frame
+    /// origin with an angle drive, folded into the body's prescribed frame
+    /// coordinates.
+    pub folds: Option<usize>,
+}
+
+/// What a force does.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ForceKind {
+    /// A force at a marker (N), in global axes or (`follower`) in the body's.
+    Point {
+        /// Where it acts.
+        at: MarkerSpec,
+        /// The force (zero-padded).
+        force: [f64; 3],
+        /// In the body's axes (a follower force).
+        follower: bool,
+    },
+    /// A linear spring-damper between two markers.
+    SpringDamper {
+        /// End `a`.
+        a: MarkerSpec,
+        /// End `b`.
+        b: MarkerSpec,
+        /// N/m.
+        stiffness: f64,
+        /// N s/m.
+        damping: f64,
+        /// m.
+        rest_length: f64,
+    },
+    /// A rotational spring-damper about the relative angle of two markers.
+    RotationalSpringDamper {
+        /// End `a`.
+        a: MarkerSpec,
+        /// End `b`.
+        b: MarkerSpec,
+        /// N m/rad.
+        stiffness: f64,
+        /// N m s/rad.
+        damping: f64,
+        /// rad.
+        rest_angle: f64,
+    },
+    /// A constant torque between two markers (N m).
+    Torque {
+        /// End `a`.
+        a: MarkerSpec,
+        /// End `b`.
+        b: MarkerSpec,
+        /// N m.
+        torque: f64,
+    },
+}
+
+/// A force, and where its table is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ForceSpec {
+    /// What it does.
+    pub kind: ForceKind,
+    /// Where.
+    pub at: Location,
+}
+
+/// What an output column records.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputKind {
+    /// Global position of a marker (component 0, 1, 2).
+    Position(usize),
+    /// Elastic displacement of a marker in its body's frame.
+    Deflection(usize),
+    /// Global velocity of a marker.
+    Velocity(usize),
+    /// The angle of the marker's x axis in the global x–y plane, or, with a
+    /// reference marker `a`, about `a`'s z axis (`atan2(x·y_a, x·x_a)`),
+    /// unwrapped along the run.
+    Angle,
+    /// An energy: total, kinetic, elastic, gravity or springs; or the
+    /// work done on the system so far by point forces and motors, or taken
+    /// out by dampers (trapezoidal rule over the steps).
+    Energy(EnergyPart),
+}
+
+/// Which energy.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EnergyPart {
+    /// `T + V`.
+    Total,
+    /// `T`.
+    Kinetic,
+    /// Elastic.
+    Elastic,
+    /// Gravitational.
+    Gravity,
+    /// Springs.
+    Springs,
+    /// `∫ P_applied dt`: work of the point forces and motors since `t = 0`.
+    Work,
+    /// `∫ P_dissipated dt`: energy taken out by the dampers since `t = 0`.
+    Dissipated,
+}
+
+/// An output column.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputSpec {
+    /// Column name (checked: a CSV column, not `t`, not repeated).
+    pub name: String,
+    /// What it records.
+    pub kind: OutputKind,
+    /// Where (none for energies).
+    pub at: Option<MarkerSpec>,
+    /// Reference marker of a relative angle.
+    pub relative_to: Option<MarkerSpec>,
+}

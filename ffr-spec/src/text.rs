@@ -1,0 +1,54 @@
+//! User text in messages: escaped so that it cannot move a terminal's
+//! cursor or reorder text, and cut to a length.
+
+/// One character escaped as `\n`, `\r`, `\t` or `\u{…}`.
+pub fn escape_char(c: char, out: &mut String) {
+    match c {
+        '\n' => out.push_str("\\n"),
+        '\r' => out.push_str("\\r"),
+        '\t' => out.push_str("\\t"),
+        c => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
+    }
+}
+
+/// User text quoted in an error message or shown on a terminal or in a
+/// plot: control, format and other non-printing characters (and the
+/// non-characters U+FFFE, U+FFFF, which XML does not allow) escaped as in
+/// ffr-codegen's `comment_text` (so a message cannot move the cursor, change colours or
+/// reorder text on a terminal, and an SVG stays well-formed XML once its
+/// writer has escaped `<`, `&` and quotes), and cut to at most `max_chars`
+/// characters with `…`.
+pub fn snippet(s: &str, max_chars: usize) -> String {
+    let mut out = String::new();
+    for (n, c) in s.chars().enumerate() {
+        if n == max_chars {
+            out.push('…');
+            break;
+        }
+        if c.is_control() || is_invisible(c) || matches!(c, '\u{fffe}' | '\u{ffff}') {
+            escape_char(c, &mut out);
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// Format characters that change how text displays without showing:
+/// bidirectional controls, zero-width characters, line and paragraph
+/// separators, the byte-order mark, soft hyphen, tags.
+fn is_invisible(c: char) -> bool {
+    matches!(c as u32,
+        0x00AD | 0x061C | 0x180E | 0x200B..=0x200F | 0x2028..=0x202E | 0x2060..=0x206F
+        | 0xFEFF | 0xFFF9..=0xFFFB | 0xE0000..=0xE007F)
+}
+
+/// The most characters of a user string (a name, a key, a marker) quoted in
+/// a message; longer ones are cut with `…`.
+pub const MAX_QUOTED_CHARS: usize = 64;
+
+/// A user string as quoted in a message: escaped and at most
+/// [`MAX_QUOTED_CHARS`] characters ([`snippet`]).
+pub fn quoted(s: &str) -> String {
+    snippet(s, MAX_QUOTED_CHARS)
+}

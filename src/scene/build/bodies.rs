@@ -1,0 +1,188 @@
+//! `[bodies.NAME]`: rigid and flexible bodies (with their kernels from the
+//! provider), poses, damping, initial velocities and elastic states.
+
+use super::{err, v3, Parts};
+use crate::runtime::nalgebra::{Matrix3, Unit, UnitQuaternion, Vector2};
+use crate::runtime::spec::scene::{BodyKind, BodySpec, FlexSpec, Orientation, SceneSpec};
+use crate::runtime::spec::text::quoted as q;
+use crate::runtime::spec::Param;
+use crate::runtime::{Body, KernelBody, Pose, Rayleigh, RigidBody};
+use crate::scene::provider::KernelProvider;
+use crate::SceneError;
+
+/// Add the scene's bodies to the system, in file order.
+pub(super) fn add_bodies(
+    spec: &SceneSpec,
+    provider: &dyn KernelProvider,
+    parts: &mut Parts,
+) -> Result<(), SceneError> {
+    let dim = spec.dim;
+    for b in &spec.bodies {
+        let name = &b.name;
+        let pose = match b.orientation {
+            Orientation::Planar(a) => Pose::planar(b.position[0], b.position[1], a),
+            Orientation::Identity => Pose::spatial(v3(b.position), UnitQuaternion::identity()),
+            Orientation::AxisAngle { axis, angle } => Pose::spatial(
+                v3(b.position),
+                UnitQuaternion::from_axis_angle(&Unit::new_normalize(v3(axis)), angle),
+            ),
+        };
+        let boxed: Box<dyn Body> = match &b.kind {
+            BodyKind::Rigid {
+                mass,
+                inertia,
+                centre,
+            } => {
+                let rbody = if dim == 2 {
+                    RigidBody::planar(*mass, inertia[2][2], Vector2::new(centre[0], centre[1]))
+                } else {
+                    let m = inertia;
+                    let m3 = Matrix3::new(
+                        m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2], m[2][0], m[2][1],
+                        m[2][2],
+                    );
+                    RigidBody::spatial(*mass, m3, v3(*centre))
+                }
+                .map_err(|e| err(&b.at, format!("body `{name}`: {e}")))?;
+                parts.kernels.push((name.clone(), "rigid".to_string()));
+                Box::new(rbody)
+            }
+            BodyKind::Flexible(f) => flexible(b, f, dim, provider, parts)?,
+        };
+        let sys = &mut parts.sys;
+        let id = sys
+            .add_body(name, boxed, pose)
+            .map_err(|e| err(&b.at, e.to_string()))?;
+        if let Some((alpha, beta, at)) = &b.damping {
+            let r = Rayleigh {
+                alpha: *alpha,
+                beta: *beta,
+            };
+            sys.set_damping(id, r).map_err(|e| err(at, e.to_string()))?;
+        }
+        let (v, w) = (v3(b.velocity), v3(b.omega));
+        if v.norm() > 0.0 || w.norm() > 0.0 {
+            sys.set_velocity(id, v, w)
+                .map_err(|e| err(&b.at, e.to_string()))?;
+        }
+        if let Some(el) = &b.elastic {
+            let labels = sys.body(id).layout().labels.clone();
+            let by_label = |entries: &[(String, f64, crate::runtime::spec::Location)]| {
+                let mut out = vec![0.0; labels.len()];
+                for (k, x, at) in entries {
+                    let Some(i) = labels.iter().position(|l| l == k) else {
+                        return Err(err(
+                            at,
+                            format!(
+                                "body `{name}` has no elastic coordinate `{}`; its coordinates are {}",
+                                q(k),
+                                labels.join(", ")
+                            ),
+                        ));
+                    };
+                    out[i] = *x;
+                }
+                Ok(out)
+            };
+            let q_f = by_label(&el.q)?;
+            let qd_f = by_label(&el.qd)?;
+            sys.set_elastic(id, &q_f, &qd_f)
+                .map_err(|e| err(&el.at, e.to_string()))?;
+        }
+    }
+    Ok(())
+}
+
+/// A flexible body on the provider's kernels (reduced when it is modal).
+fn flexible(
+    b: &BodySpec,
+    f: &FlexSpec,
+    dim: usize,
+    provider: &dyn KernelProvider,
+    parts: &mut Parts,
+) -> Result<Box<dyn Body>, SceneError> {
+    let name = &b.name;
+    let (kernels, path) = provider
+        .kernels(f)
+        .map_err(|e| err(&f.shape_at, format!("body `{name}`: {e}")))?;
+    if kernels.info().dim > dim {
+        return Err(err(
+            &f.shape_at,
+            format!(
+                "body `{name}`: shape `{}` is spatial; a planar scene needs a planar shape",
+                q(&f.shape_name)
+            ),
+        ));
+    }
+    // A parameter the body uses must be given (a missing one would be
+    // reported as zero).
+    let used = &kernels.info().params_used;
+    if let Some(missing) = Param::FIELDS
+        .iter()
+        .enumerate()
+        .find(|(i, p)| !f.given[*i] && used.contains(p))
+    {
+        let names: Vec<&str> = used.iter().map(|p| p.field()).collect();
+        return Err(err(
+            &f.params_at,
+            format!(
+                "body `{name}`: `params` needs `{}`: shape `{}` in this scene uses {}",
+                missing.1.field(),
+                q(&f.shape_name),
+                names.join(", ")
+            ),
+        ));
+    }
+    let kb = KernelBody::new(kernels, f.params, f.elements, f.reference)
+        .map_err(|e| err(&b.at, format!("body `{name}`: {e}")))?;
+    let boxed: Box<dyn Body> = match &f.modal {
+        None => {
+            parts.kernels.push((name.clone(), path.to_string()));
+            Box::new(kb)
+        }
+        Some((settings, modes_at)) => {
+            let mb = reduce(f, settings, kb)
+                .map_err(|e| err(modes_at, format!("body `{name}`: {e}")))?;
+            parts.kernels.push((
+                name.clone(),
+                format!(
+                    "modal, {} modes ({path} full body for markers)",
+                    mb.layout().nf
+                ),
+            ));
+            mb
+        }
+    };
+    parts.flex.push(f.clone());
+    Ok(boxed)
+}
+
+/// The modal body of `f` (its full body `kb` places markers).
+#[cfg(feature = "scene-files")]
+fn reduce(
+    f: &FlexSpec,
+    settings: &crate::runtime::spec::scene::ModalSettings,
+    kb: KernelBody<Box<dyn crate::runtime::ElementKernels>>,
+) -> crate::Result<Box<dyn Body>> {
+    let mb = crate::modal::ReducibleBody::from_parts(
+        &f.shape,
+        f.elements,
+        f.reference,
+        f.options.formalism,
+        f.params,
+    )
+    .and_then(|r| r.runtime_body(settings, f.options.stiffening, Box::new(kb)))?;
+    Ok(Box::new(mb))
+}
+
+/// Without the `scene-files` feature there is no run-time reduction.
+#[cfg(not(feature = "scene-files"))]
+fn reduce(
+    _: &FlexSpec,
+    _: &crate::runtime::spec::scene::ModalSettings,
+    _: KernelBody<Box<dyn crate::runtime::ElementKernels>>,
+) -> crate::Result<Box<dyn Body>> {
+    Err(crate::Error::Invalid(
+        "a modal body is reduced at run time: it needs the `scene-files` feature of ffr".into(),
+    ))
+}

@@ -1,0 +1,52 @@
+//! From a scene file to a [`Scene`]: read, parsed, checked and resolved by
+//! the generator's scene reader (errors at `file:line:col`), then built
+//! ([`crate::scene::build()`]).
+
+use crate::scene::build::build;
+use crate::scene::model::Scene;
+use crate::scene::provider::{DefaultKernels, KernelProvider};
+use crate::SceneError;
+use std::path::{Path, PathBuf};
+
+fn scene_error(e: crate::codegen::Error) -> SceneError {
+    match e {
+        crate::codegen::Error::Scene { location, message } => SceneError {
+            location: Some(location),
+            message,
+        },
+        other => SceneError {
+            location: None,
+            message: other.to_string(),
+        },
+    }
+}
+
+/// Read and load a scene file (relative shape paths against its directory).
+pub fn load(path: &Path) -> crate::Result<Scene> {
+    load_with(path, &DefaultKernels)
+}
+
+/// [`load`] with another kernel provider.
+pub fn load_with(path: &Path, provider: &dyn KernelProvider) -> crate::Result<Scene> {
+    let file = path.display().to_string();
+    let text = crate::codegen::scene::read(path)?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    Ok(from_str(&text, &file, &base, provider)?)
+}
+
+/// Load a scene from its text; `file` names it in errors, `base` resolves
+/// relative shape paths.
+pub fn from_str(
+    text: &str,
+    file: &str,
+    base: &Path,
+    provider: &dyn KernelProvider,
+) -> Result<Scene, SceneError> {
+    let spec = crate::codegen::scene::resolve_str(text, file, base).map_err(scene_error)?;
+    build(&spec, provider)
+}
+
+/// The scene files shipped with ffr (`scenes/`).
+pub fn builtin_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes")
+}
