@@ -8,13 +8,13 @@
 //!   compile time;
 //! - [`runtime`]: bodies, joints, forces, generalized-α and RK4;
 //! - [`prelude`]: the names a simulation uses;
-//! - [`Error`]: one error type to match on;
-//! - [`scene`]: scenes built from resolved data (`SceneSpec`) and run; a
-//!   compiled scene (`ffr_codegen::Builder::scene`) needs nothing more.
+//! - [`Error`]: one error type to match on.
 //!
 //! Behind features:
 //!
-//! - `scene-files`: `scene::load` (TOML scene files),
+//! - `scene`: `scene` (scenes built from resolved data, `SceneSpec`, and
+//!   run): all a compiled scene (`ffr_codegen::Builder::scene`) needs;
+//! - `scene-files` (implies `scene`): `scene::load` (TOML scene files),
 //!   `kernels::BeamSpec` (a beam described at run time, on tapes of the
 //!   generator's programs), `modal` (reduced bodies) and `codegen` (plain
 //!   names: the items exist only with the feature);
@@ -40,6 +40,7 @@ pub mod invariants;
 pub mod kernels;
 #[cfg(feature = "scene-files")]
 pub mod modal;
+#[cfg(feature = "scene")]
 pub mod scene;
 
 #[cfg(feature = "scene-files")]

@@ -10,5 +10,5 @@ pub use crate::{Error, Result};
 
 #[cfg(feature = "scene-files")]
 pub use crate::kernels::BeamSpec;
-#[cfg(feature = "scene-files")]
+#[cfg(feature = "scene")]
 pub use crate::scene::{Scene, SceneRun};

@@ -334,7 +334,8 @@ impl Builder {
     /// stem plus `Scene`, e.g. `ArmScene` for `scenes/arm.toml`, in
     /// `arm.rs`) whose `spec()` is the scene resolved at build time, as data,
     /// and whose `load()` builds it with these kernels (no file is parsed at
-    /// start-up): it simulates bit for bit like `ffr run` on the file.
+    /// start-up; the crate needs `ffr`'s feature `scene`): it simulates bit
+    /// for bit like `ffr run` on the file.
     #[cfg(feature = "scene")]
     pub fn scene(self, path: impl AsRef<str>) -> Self {
         let p = path.as_ref().to_string();
