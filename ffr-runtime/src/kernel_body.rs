@@ -1,6 +1,7 @@
-//! A flexible body assembled from element kernels: `N` equal elements of a
-//! shape (element count, reference condition and parameters chosen at run
-//! time), or a single "element" holding all coordinates (modal bodies).
+//! A flexible body assembled from element kernels: `N` elements of a shape
+//! (equal, or between given nodes: a graded mesh; element count, reference
+//! condition and parameters chosen at run time), or a single "element"
+//! holding all coordinates (modal bodies).
 //!
 //! Every evaluation loops over the elements: gather the element's
 //! coordinates through its dof map (removed coordinates read as zero), call
@@ -25,13 +26,18 @@ pub struct KernelBody<K> {
     kernels: K,
     layout: BodyLayout,
     params: Params,
+    /// The coefficient arrays: one shared by every element of an equal
+    /// mesh (`coef_stride = 0`), or one per element (`coef_stride` each).
     coef: Vec<f64>,
+    coef_stride: usize,
     elements: usize,
     ne: usize,
     /// `elements × n_e` body indices (`REMOVED` where a coordinate is removed).
     maps: Vec<usize>,
+    /// The nodes `x_0 = 0 < x_1 < … < x_N = L`; element `e` starts at
+    /// `x0[e]` and has length `lengths[e]`.
     x0: Vec<f64>,
-    elem_length: f64,
+    lengths: Vec<f64>,
 }
 
 /// Offsets of the scratch regions of one element evaluation.
@@ -51,6 +57,76 @@ impl<K: ElementKernels> KernelBody<K> {
     /// `elements` equal elements of the kernels' shape from `x = 0` to
     /// `params.length`, with reference condition `reference`.
     pub fn new(kernels: K, params: Params, elements: usize, reference: Reference) -> Result<Self> {
+        let l = params.elem_length(elements);
+        let x0: Vec<f64> = (0..elements).map(|e| e as f64 * l).collect();
+        Self::build(kernels, params, x0, vec![l; elements], true, reference)
+    }
+
+    /// A graded mesh: elements between `nodes` (`x = 0` first, `x = L =
+    /// params.length` last, strictly increasing, finite), with reference
+    /// condition `reference`. Each element reads coefficients for its own
+    /// length. Nodes exactly at `x_e = e·(L/N)` (as f64) give the body
+    /// [`KernelBody::new`] builds with `N` elements, bit for bit.
+    pub fn with_nodes(
+        kernels: K,
+        params: Params,
+        nodes: &[f64],
+        reference: Reference,
+    ) -> Result<Self> {
+        let n = nodes.len();
+        if n < 2 || n > ffr_spec::MAX_ELEMENTS + 1 {
+            return Err(Error::InvalidInput(format!(
+                "a mesh needs 2 to {} nodes (1 to {} elements), found {n}",
+                ffr_spec::MAX_ELEMENTS + 1,
+                ffr_spec::MAX_ELEMENTS
+            )));
+        }
+        if let Some((i, x)) = nodes.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "node {i} is at x = {x}: nodes must be finite"
+            )));
+        }
+        if nodes[0] != 0.0 {
+            return Err(Error::InvalidInput(format!(
+                "the first node is at x = {}: a mesh starts at the body's root, x = 0",
+                nodes[0]
+            )));
+        }
+        if nodes[n - 1] != params.length {
+            return Err(Error::InvalidInput(format!(
+                "the last node is at x = {}: a mesh ends at the body's length, x = L = {} m",
+                nodes[n - 1],
+                params.length
+            )));
+        }
+        if let Some(i) = (1..n).find(|&i| nodes[i] <= nodes[i - 1]) {
+            return Err(Error::InvalidInput(format!(
+                "nodes {} and {i} are at x = {} and x = {}: nodes must increase strictly",
+                i - 1,
+                nodes[i - 1],
+                nodes[i]
+            )));
+        }
+        // Nodes exactly at `e·L/N`: the equal mesh, as `new` builds it.
+        let elements = n - 1;
+        let l = params.elem_length(elements);
+        if nodes.iter().enumerate().all(|(e, x)| *x == e as f64 * l || e == elements) {
+            return Self::new(kernels, params, elements, reference);
+        }
+        let x0 = nodes[..elements].to_vec();
+        let lengths: Vec<f64> = nodes.windows(2).map(|w| w[1] - w[0]).collect();
+        Self::build(kernels, params, x0, lengths, false, reference)
+    }
+
+    fn build(
+        kernels: K,
+        params: Params,
+        x0: Vec<f64>,
+        lengths: Vec<f64>,
+        equal: bool,
+        reference: Reference,
+    ) -> Result<Self> {
+        let elements = lengths.len();
         let info = kernels.info().clone();
         params
             .validate_only(&info.params_used)
@@ -65,15 +141,25 @@ impl<K: ElementKernels> KernelBody<K> {
                     .collect::<Vec<_>>()
             })
             .collect();
-        let l = params.elem_length(elements);
-        let mut coef = vec![0.0; info.n_coefficients];
-        kernels.coefficients(&params, l, &mut coef);
+        // One coefficient array when every element has the same length,
+        // else one per element.
+        let nc = info.n_coefficients;
+        let blocks = if equal { 1 } else { elements };
+        let mut coef = vec![0.0; nc * blocks];
+        for (b, c) in coef.chunks_mut(nc.max(1)).enumerate().take(blocks) {
+            kernels.coefficients(&params, lengths[b], c);
+        }
         if let Some(i) = coef.iter().position(|c| !c.is_finite()) {
             return Err(Error::InvalidInput(format!(
-                "the parameters ({}) give the element coefficient c[{i}] = {} for {elements} × `{}`: a product of parameters is beyond the range of f64",
-                params.describe(&info.params_used), coef[i], info.shape
+                "the parameters ({}) give the element coefficient c[{}] = {} for {elements} × `{}`: a product of parameters is beyond the range of f64",
+                params.describe(&info.params_used), i % nc.max(1), coef[i], info.shape
             )));
         }
+        let mesh_text = if equal {
+            format!("{elements}")
+        } else {
+            format!("{elements} graded")
+        };
         let layout = BodyLayout {
             dim: info.dim,
             scene_dim: info.scene_dim(),
@@ -85,7 +171,7 @@ impl<K: ElementKernels> KernelBody<K> {
             length: Some(params.length),
             description: format!(
                 "{} × `{}` ({} formalism, stiffening {}, {} reference, L = {} m)",
-                elements,
+                mesh_text,
                 info.shape,
                 info.options.formalism,
                 info.options.stiffening,
@@ -98,11 +184,12 @@ impl<K: ElementKernels> KernelBody<K> {
             layout,
             params,
             coef,
+            coef_stride: if equal { 0 } else { nc },
             elements,
             ne,
             maps,
-            x0: (0..elements).map(|e| e as f64 * l).collect(),
-            elem_length: l,
+            x0,
+            lengths,
         })
     }
 
@@ -124,9 +211,25 @@ impl<K: ElementKernels> KernelBody<K> {
         &self.params
     }
 
-    /// The coefficient array the kernels read.
-    pub fn coefficients(&self) -> &[f64] {
-        &self.coef
+    /// The coefficient array the kernels read for element `e`.
+    pub fn coefficients(&self, e: usize) -> &[f64] {
+        self.coef_of(e)
+    }
+
+    /// The nodes `x_0 = 0, …, x_N = L`.
+    pub fn nodes(&self) -> Vec<f64> {
+        let mut out = self.x0.clone();
+        out.push(self.params.length);
+        out
+    }
+
+    fn coef_of(&self, e: usize) -> &[f64] {
+        let s = self.coef_stride;
+        if s == 0 {
+            &self.coef
+        } else {
+            &self.coef[e * s..(e + 1) * s]
+        }
     }
 
     /// Number of elements.
@@ -201,7 +304,7 @@ impl<K: ElementKernels> Body for KernelBody<K> {
             if frame_rows {
                 let (mut f_r, mut f_th) = ([0.0; 3], [0.0; 3]);
                 self.kernels.residual(
-                    &self.coef,
+                    self.coef_of(e),
                     &x,
                     &mut ResidualOut {
                         f_r: &mut f_r,
@@ -215,7 +318,7 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                     out.f_th[k] += f_th[k];
                 }
             } else {
-                self.kernels.residual_elastic(&self.coef, &x, fe, ks);
+                self.kernels.residual_elastic(self.coef_of(e), &x, fe, ks);
             }
             scatter(fe, &mut out.f_f, map);
         }
@@ -268,7 +371,7 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                 drf.iter_mut().for_each(|x| *x = 0.0);
                 let (mut f_r, mut f_th) = ([0.0; 3], [0.0; 3]);
                 self.kernels.tangent(
-                    &self.coef,
+                    self.coef_of(e),
                     &x,
                     bp,
                     gp,
@@ -303,7 +406,7 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                 }
             } else {
                 self.kernels
-                    .tangent_elastic(&self.coef, &x, bp, gp, fe, kee, ks);
+                    .tangent_elastic(self.coef_of(e), &x, bp, gp, fe, kee, ks);
             }
             scatter(fe, &mut out.f_f, map);
             for (a, &ia) in map.iter().enumerate() {
@@ -338,7 +441,7 @@ impl<K: ElementKernels> Body for KernelBody<K> {
             mrf.iter_mut().for_each(|x| *x = 0.0);
             let mut s_t = [0.0; 3];
             self.kernels.mass(
-                &self.coef,
+                self.coef_of(e),
                 self.x0[e],
                 q,
                 &mut MassOut {
@@ -382,7 +485,7 @@ impl<K: ElementKernels> Body for KernelBody<K> {
         let mut e = 0.0;
         for el in 0..self.elements {
             gather(q, q_f, self.map(el));
-            e += self.kernels.energy(&self.coef, q, ks);
+            e += self.kernels.energy(self.coef_of(el), q, ks);
         }
         e
     }
@@ -396,7 +499,7 @@ impl<K: ElementKernels> Body for KernelBody<K> {
         for e in 0..self.elements {
             buf.iter_mut().for_each(|x| *x = 0.0);
             self.kernels
-                .element_invariants(&self.coef, self.x0[e], &mut buf, &mut ks);
+                .element_invariants(self.coef_of(e), self.x0[e], &mut buf, &mut ks);
             let map = self.map(e);
             inv.mass += buf[off[0]];
             for k in 0..3 {
@@ -442,15 +545,22 @@ impl<K: ElementKernels> Body for KernelBody<K> {
             )));
         }
         let x = x.clamp(0.0, length);
-        let l = self.elem_length;
-        let e = ((x / l).floor() as usize).min(self.elements - 1);
+        let e = if self.coef_stride == 0 {
+            // Equal elements: the element by division (as before graded
+            // meshes, so that markers are placed bit for bit as then).
+            ((x / self.lengths[0]).floor() as usize).min(self.elements - 1)
+        } else {
+            // The last element whose start is at or before x.
+            self.x0.partition_point(|x0| *x0 <= x).saturating_sub(1)
+        };
+        let l = self.lengths[e];
         let xi = (x - self.x0[e]) / l;
         let ne = self.ne;
         let mut s = vec![0.0; 3 * ne];
         let mut psi = vec![0.0; 3 * ne];
         let mut ks = vec![0.0; self.kernels.info().scratch];
         self.kernels
-            .point_shape(&self.coef, xi, &mut s, &mut psi, &mut ks);
+            .point_shape(self.coef_of(e), xi, &mut s, &mut psi, &mut ks);
         let mut entries = Vec::new();
         for (a, &ia) in self.map(e).iter().enumerate() {
             if ia == REMOVED {

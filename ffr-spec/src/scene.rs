@@ -147,8 +147,11 @@ pub struct FlexSpec {
     pub shape_name: String,
     /// Where the shape is written.
     pub shape_at: Location,
-    /// Number of equal elements.
+    /// Number of elements.
     pub elements: usize,
+    /// A graded mesh: the `elements + 1` nodes' x, from 0 to the length
+    /// (`None`: equal elements).
+    pub nodes: Option<Vec<f64>>,
     /// How the frame is fixed to the body.
     pub reference: Reference,
     /// The kernel options (with what the scene fixes).

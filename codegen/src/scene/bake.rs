@@ -191,12 +191,13 @@ impl Bake for ffr_spec::scene::FlexSpec {
             unit(s, "FrameModel", &o.frame),
         );
         format!(
-            "{s}::scene::FlexSpec {{ name: {}, shape: {}, shape_name: {}, shape_at: {}, elements: {}, reference: {}, options: {options}, params: {s}::Params::from_array({}), given: {}, params_at: {}, modal: {} }}",
+            "{s}::scene::FlexSpec {{ name: {}, shape: {}, shape_name: {}, shape_at: {}, elements: {}, nodes: {}, reference: {}, options: {options}, params: {s}::Params::from_array({}), given: {}, params_at: {}, modal: {} }}",
             self.name.bake(s),
             self.shape.bake(s),
             self.shape_name.bake(s),
             self.shape_at.bake(s),
             self.elements.bake(s),
+            self.nodes.bake(s),
             unit(s, "Reference", &self.reference),
             self.params.to_array().bake(s),
             self.given.bake(s),

@@ -240,6 +240,7 @@ pub fn check(raw: &RawScene, text: &str, file: &str) -> Result<(), Error> {
         let present: Keys = keys([
             ("shape", sp(&rb.shape)),
             ("elements", sp(&rb.elements)),
+            ("nodes", sp(&rb.nodes)),
             ("reference", sp(&rb.reference)),
             ("stiffening", sp(&rb.stiffening)),
             ("formalism", sp(&rb.formalism)),
@@ -282,6 +283,7 @@ pub fn check(raw: &RawScene, text: &str, file: &str) -> Result<(), Error> {
             let takes: Vec<&str> = [
                 "shape",
                 "elements",
+                "nodes",
                 "reference",
                 "stiffening",
                 "formalism",

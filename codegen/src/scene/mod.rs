@@ -56,6 +56,9 @@ pub struct RawBody {
     // Flexible.
     pub shape: Option<Spanned<String>>,
     pub elements: Option<Spanned<i64>>,
+    /// A graded mesh: the nodes' x (m), from 0 to the length (instead of
+    /// `elements`).
+    pub nodes: Option<Spanned<Vec<f64>>>,
     pub reference: Option<Spanned<String>>,
     pub stiffening: Option<Spanned<toml::Value>>,
     pub formalism: Option<Spanned<String>>,
@@ -227,6 +230,7 @@ impl RawBody {
             .map(|x| x.span())
             .or(self.mass.as_ref().map(|x| x.span()))
             .or(self.elements.as_ref().map(|x| x.span()))
+            .or(self.nodes.as_ref().map(|x| x.span()))
             .or(self.params.as_ref().map(|x| x.span()))
             .or(self.position.as_ref().map(|x| x.span()))
     }

@@ -133,8 +133,11 @@ fn flexible(
             ),
         ));
     }
-    let kb = KernelBody::new(kernels, f.params, f.elements, f.reference)
-        .map_err(|e| err(&b.at, format!("body `{name}`: {e}")))?;
+    let kb = match &f.nodes {
+        None => KernelBody::new(kernels, f.params, f.elements, f.reference),
+        Some(nodes) => KernelBody::with_nodes(kernels, f.params, nodes, f.reference),
+    }
+    .map_err(|e| err(&b.at, format!("body `{name}`: {e}")))?;
     let boxed: Box<dyn Body> = match &f.modal {
         None => {
             parts.kernels.push((name.clone(), path.to_string()));
@@ -164,6 +167,11 @@ fn reduce(
     settings: &crate::runtime::spec::scene::ModalSettings,
     kb: KernelBody<Box<dyn crate::runtime::ElementKernels>>,
 ) -> crate::Result<Box<dyn Body>> {
+    if f.nodes.is_some() {
+        return Err(crate::Error::Invalid(
+            "a modal body needs equal elements; a graded mesh is not reduced yet".into(),
+        ));
+    }
     let mb = crate::modal::ReducibleBody::from_parts(
         &f.shape,
         f.elements,

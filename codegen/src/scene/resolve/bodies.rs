@@ -62,22 +62,7 @@ pub(super) fn bodies(
             }
         } else {
             let shape = rb.shape.as_ref().ok_or_else(|| c.err(span.clone(), format!("body `{name_s}` needs `shape = \"beam2\"` (flexible) or `mass = …` (rigid)")))?;
-            let elements = rb.elements.as_ref().ok_or_else(|| {
-                c.err(
-                    span.clone(),
-                    format!("flexible body `{name_s}` needs `elements = N`"),
-                )
-            })?;
-            let n = *elements.get_ref();
-            if !(1..=ffr_spec::MAX_ELEMENTS as i64).contains(&n) {
-                return Err(c.err(
-                    elements.span(),
-                    format!(
-                        "`elements` must be 1 to {}, found {n}",
-                        ffr_spec::MAX_ELEMENTS
-                    ),
-                ));
-            }
+            let (n, nodes) = mesh(c, name_s, rb, span.clone())?;
             let reference = match &rb.reference {
                 Some(r) => r.get_ref().parse::<Reference>().map_err(|_| {
                     c.err(
@@ -94,8 +79,26 @@ pub(super) fn bodies(
                 .iter()
                 .find(|m| &m.name == name_s)
                 .expect("every flexible body has a model");
-            let modal = modal_settings(c, name_s, rb, n as usize)?;
+            let modal = modal_settings(c, name_s, rb, n)?;
             let (params, given, params_span) = parse_params(c, name_s, rb, span.clone())?;
+            if let (Some(_), Some(m)) = (&nodes, &rb.modes) {
+                return Err(c.err(
+                    m.span(),
+                    format!("body `{name_s}`: a modal body needs equal elements (`elements = N`); a graded mesh (`nodes`) is not reduced yet"),
+                ));
+            }
+            if let Some((xs, at)) = &nodes {
+                let last = *xs.last().expect("at least two nodes");
+                if last != params.length {
+                    return Err(c.err(
+                        at.clone(),
+                        format!(
+                            "body `{name_s}`: the last node is at x = {last:?}, not at the body's end x = `length` = {:?}",
+                            params.length
+                        ),
+                    ));
+                }
+            }
             let shape_s = shape.get_ref();
             let resolved = if crate::Shape::builtin(shape_s).is_some() {
                 shape_s.clone()
@@ -107,7 +110,8 @@ pub(super) fn bodies(
                 shape: resolved,
                 shape_name: shape_s.clone(),
                 shape_at: c.loc(shape.span()),
-                elements: n as usize,
+                elements: n,
+                nodes: nodes.map(|(xs, _)| xs),
                 reference,
                 // The scene's model: what it fixes, carried unchanged.
                 options: model.options,
@@ -209,6 +213,68 @@ pub(super) fn bodies(
         });
     }
     Ok(out)
+}
+
+/// The mesh a flexible body asks for: `elements = N` equal elements, or
+/// `nodes = [0.0, …, L]` (a graded mesh: the nodes and where they are
+/// written; the last node is checked against `length` with the parameters).
+#[allow(clippy::type_complexity)]
+fn mesh(
+    c: &Ctx,
+    name: &str,
+    rb: &RawBody,
+    span: Range<usize>,
+) -> Result<(usize, Option<(Vec<f64>, Range<usize>)>), Error> {
+    let max = ffr_spec::MAX_ELEMENTS;
+    match (&rb.elements, &rb.nodes) {
+        (Some(_), Some(nodes)) => Err(c.err(
+            nodes.span(),
+            format!("body `{name}` has `elements` and `nodes`: give one (`elements = N`: equal elements; `nodes = [0.0, …, L]`: a graded mesh)"),
+        )),
+        (None, None) => Err(c.err(
+            span,
+            format!("flexible body `{name}` needs `elements = N` (equal elements) or `nodes = [0.0, …, L]` (a graded mesh)"),
+        )),
+        (Some(elements), None) => {
+            let n = *elements.get_ref();
+            if !(1..=max as i64).contains(&n) {
+                return Err(c.err(
+                    elements.span(),
+                    format!("`elements` must be 1 to {max}, found {n}"),
+                ));
+            }
+            Ok((n as usize, None))
+        }
+        (None, Some(nodes)) => {
+            let xs = nodes.get_ref();
+            let bad = |msg: String| Err(c.err(nodes.span(), format!("body `{name}`: {msg}")));
+            if xs.len() < 2 || xs.len() > max + 1 {
+                return bad(format!(
+                    "`nodes` lists 2 to {} positions (1 to {max} elements), found {}",
+                    max + 1,
+                    xs.len()
+                ));
+            }
+            if let Some(x) = xs.iter().find(|x| !x.is_finite()) {
+                return bad(format!("`nodes` must be finite, found {x:?}"));
+            }
+            if xs[0] != 0.0 {
+                return bad(format!(
+                    "the first node is at x = {:?}: a mesh starts at the body's root, x = 0",
+                    xs[0]
+                ));
+            }
+            if let Some(i) = (1..xs.len()).find(|&i| xs[i] <= xs[i - 1]) {
+                return bad(format!(
+                    "nodes {} and {i} are at x = {:?} and x = {:?}: `nodes` must increase strictly",
+                    i - 1,
+                    xs[i - 1],
+                    xs[i]
+                ));
+            }
+            Ok((xs.len() - 1, Some((xs.clone(), nodes.span()))))
+        }
+    }
 }
 
 const PARAMS: &str = "length, rho, area, iy, iz, e, g, j";
