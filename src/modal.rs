@@ -33,6 +33,8 @@ pub struct ReducibleBody {
     pub dofs: Vec<String>,
     /// Number of elastic modes: n_f, less the rigid-body motions of a free body.
     pub available: usize,
+    /// The nodes of a graded mesh (`None`: equal elements).
+    pub nodes: Option<Vec<f64>>,
 }
 
 /// The runtime parameters a polynomial's terms contain.
@@ -107,6 +109,57 @@ impl ReducibleBody {
             invariants,
             dofs,
             available,
+            nodes: None,
+        })
+    }
+
+    /// A body on a graded mesh (`nodes`, from [`crate::runtime::KernelBody::with_nodes`]):
+    /// the invariants are the runtime's assembly `inv` of its elements
+    /// (the exact invariants are those of equal elements), checked like
+    /// [`ReducibleBody::from_parts`]. Clamped and pinned bodies only: a free
+    /// body's rigid-body motions are written for equal elements.
+    pub fn from_runtime(
+        shape: &str,
+        nodes: &[f64],
+        reference: Reference,
+        formalism: Formalism,
+        p: Params,
+        inv: &crate::runtime::Invariants,
+    ) -> crate::Result<Self> {
+        if reference == Reference::Free {
+            return Err(
+                "a free body on a graded mesh cannot be reduced yet (its rigid-body motions are written for equal elements)"
+                    .into(),
+            );
+        }
+        let elements = nodes.len().saturating_sub(1);
+        let shape = Shape::resolve(shape, None)?;
+        let spec = BodySpec::new(shape, elements, reference)?.with_formalism(formalism);
+        let dofs: Vec<String> = spec.dofs().iter().map(|d| d.to_string()).collect();
+        check_invariants(inv, &dofs, formalism)?;
+        let invariants = modal::Invariants {
+            dim: inv.dim,
+            mass: inv.mass,
+            s_t0: inv.s_t0,
+            s_bar: crate::runtime::nalgebra::DMatrix::from_iterator(
+                3,
+                inv.nf(),
+                inv.s_bar.iter().copied(),
+            ),
+            s_kl: inv.s_kl.clone(),
+            i_kl: inv.i_kl.clone(),
+            theta: inv.theta,
+            m_ff: inv.m_ff.clone(),
+            k_ff: inv.k_ff.clone(),
+        };
+        let available = dofs.len();
+        Ok(Self {
+            spec,
+            params: p,
+            invariants,
+            dofs,
+            available,
+            nodes: Some(nodes.to_vec()),
         })
     }
 
@@ -240,10 +293,11 @@ impl ReducibleBody {
     /// One line naming the body.
     pub fn description(&self) -> String {
         format!(
-            "{} ({}), {} elements, {}, {} formalism: {} elastic coordinates, {} elastic modes",
+            "{} ({}), {} {}elements, {}, {} formalism: {} elastic coordinates, {} elastic modes",
             self.spec.shape.name,
             self.spec.shape.origin,
             self.spec.elements,
+            if self.nodes.is_some() { "graded " } else { "" },
             self.spec.reference,
             self.spec.formalism,
             self.dofs.len(),

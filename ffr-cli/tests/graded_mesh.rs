@@ -197,3 +197,125 @@ fn scene_nodes() {
         .expect("elements and nodes together");
     assert!(e.message.contains("has `elements` and `nodes`"), "{e}");
 }
+
+/// `ffr invariants` and `ffr modes` with `--scene FILE --body NAME` print
+/// what the flags describing the same body print (the spin-up beam: 8 beam2
+/// elements, clamped); a graded mesh's modes come from its own elements (its
+/// first frequency bounds the converged one from above, within 2e-6); wrong
+/// names are errors.
+#[test]
+fn commands_take_a_body_from_a_scene() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/spin_up.toml");
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_ffr"))
+            .args(args)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        (
+            out.status.success(),
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            stderr,
+        )
+    };
+    let flags = [
+        "--shape",
+        "beam2",
+        "--elements",
+        "8",
+        "--length",
+        "8.0",
+        "--rho",
+        "2766.67",
+        "--area",
+        "7.2968e-5",
+        "--iy",
+        "8.2189e-9",
+        "--iz",
+        "8.2189e-9",
+        "--e",
+        "6.8952e10",
+        "--g",
+        "2.6e10",
+        "--j",
+        "1.6438e-8",
+    ];
+    for cmd in ["invariants", "modes"] {
+        let (ok_a, a, err_a) = run(&[&[cmd, "--json"][..], &flags[..]].concat());
+        let (ok_b, b, err_b) = run(&[cmd, "--json", "--scene", scene, "--body", "beam"]);
+        assert!(ok_a && ok_b, "{cmd}: {err_a} {err_b}");
+        let (a, b): (serde_json::Value, serde_json::Value) = (
+            serde_json::from_str(&a).unwrap(),
+            serde_json::from_str(&b).unwrap(),
+        );
+        if cmd == "invariants" {
+            // The flags' body runs on the kernels of a free frame, the
+            // scene's on those it specializes: the invariants are the same
+            // element integrals, assembled the same way.
+            assert_eq!(a, b, "{cmd}");
+        } else {
+            assert_eq!(a["hz"], b["hz"], "{cmd}");
+            assert_eq!(a["phi"], b["phi"], "{cmd}");
+        }
+    }
+    // A graded mesh in a scene file (16 elements, x = L t²).
+    let dir = std::env::temp_dir().join(format!("ffr-graded-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(scene).unwrap();
+    let nodes: Vec<String> = (0..=16)
+        .map(|i| {
+            let t = i as f64 / 16.0;
+            format!("{:?}", if i == 16 { 8.0 } else { 8.0 * t * t })
+        })
+        .collect();
+    let graded = text.replace("elements = 8", &format!("nodes = [{}]", nodes.join(", ")));
+    let file = dir.join("graded.toml");
+    std::fs::write(&file, graded).unwrap();
+    let (ok, out, err) = run(&[
+        "modes",
+        "--json",
+        "--scene",
+        file.to_str().unwrap(),
+        "--body",
+        "beam",
+    ]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(
+        v["body"].as_str().unwrap().contains("16 graded elements"),
+        "{}",
+        v["body"]
+    );
+    let f1 = v["hz"][0].as_f64().unwrap();
+    // The same beam on 64 equal elements (converged to about 1e-9): the
+    // graded mesh is a Rayleigh–Ritz subspace of the same continuum, so its
+    // frequency is above, and close.
+    let mut fine = flags.to_vec();
+    fine[3] = "64";
+    let (ok, out, err) = run(&[&["modes", "--json"][..], &fine[..]].concat());
+    assert!(ok, "{err}");
+    let f64_ = serde_json::from_str::<serde_json::Value>(&out).unwrap()["hz"][0]
+        .as_f64()
+        .unwrap();
+    assert!(f1 >= f64_ && f1 - f64_ < 2e-6 * f64_, "{f1} vs {f64_}");
+    // Errors.
+    let (ok, _, err) = run(&["modes", "--scene", scene, "--body", "nope"]);
+    assert!(
+        !ok && err.contains("no flexible body `nope`") && err.contains("beam"),
+        "{err}"
+    );
+    let (ok, _, err) = run(&["invariants", "--scene", scene]);
+    assert!(!ok && err.contains("--body"), "{err}");
+    let (ok, _, err) = run(&[
+        "invariants",
+        "--scene",
+        scene,
+        "--body",
+        "beam",
+        "--elements",
+        "3",
+    ]);
+    assert!(!ok && err.contains("cannot be used with"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

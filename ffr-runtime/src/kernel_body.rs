@@ -74,7 +74,7 @@ impl<K: ElementKernels> KernelBody<K> {
         reference: Reference,
     ) -> Result<Self> {
         let n = nodes.len();
-        if n < 2 || n > ffr_spec::MAX_ELEMENTS + 1 {
+        if !(2..=ffr_spec::MAX_ELEMENTS + 1).contains(&n) {
             return Err(Error::InvalidInput(format!(
                 "a mesh needs 2 to {} nodes (1 to {} elements), found {n}",
                 ffr_spec::MAX_ELEMENTS + 1,
@@ -110,7 +110,11 @@ impl<K: ElementKernels> KernelBody<K> {
         // Nodes exactly at `e·L/N`: the equal mesh, as `new` builds it.
         let elements = n - 1;
         let l = params.elem_length(elements);
-        if nodes.iter().enumerate().all(|(e, x)| *x == e as f64 * l || e == elements) {
+        if nodes
+            .iter()
+            .enumerate()
+            .all(|(e, x)| *x == e as f64 * l || e == elements)
+        {
             return Self::new(kernels, params, elements, reference);
         }
         let x0 = nodes[..elements].to_vec();

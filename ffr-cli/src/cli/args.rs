@@ -69,6 +69,23 @@ pub struct BodyArgs {
     pub tape: bool,
 }
 
+/// A flexible body of a scene file instead of the body and parameter flags:
+/// `--scene FILE --body NAME`.
+#[derive(Args, Debug, Clone)]
+pub struct SceneBodyArgs {
+    /// Take the body from this scene file (with `--body`): its shape, mesh
+    /// (equal or graded), reference, formalism and parameters.
+    #[arg(
+        long,
+        requires = "body_name",
+        conflicts_with_all = ["shape", "elements", "reference", "formalism", "tape", "length", "rho", "area", "iy", "iz", "e", "g", "j"]
+    )]
+    pub scene: Option<std::path::PathBuf>,
+    /// The flexible body of `--scene` by name (`[bodies.NAME]`).
+    #[arg(long = "body", value_name = "NAME", requires = "scene")]
+    pub body_name: Option<String>,
+}
+
 /// Parameter values (SI units); a shape that does not use one ignores it.
 /// Defaults: a 1 m steel bar of 10 mm × 10 mm square section.
 #[derive(Args, Debug, Clone)]

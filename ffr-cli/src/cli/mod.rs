@@ -7,7 +7,9 @@ mod modes;
 mod run;
 mod spin_up;
 
-pub use args::{BodyArgs, ExportFormat, IntegratorKind, KernelArgs, ParamArgs, ReductionKind};
+pub use args::{
+    BodyArgs, ExportFormat, IntegratorKind, KernelArgs, ParamArgs, ReductionKind, SceneBodyArgs,
+};
 pub use invariants::invariants_json;
 pub use modes::{export, modes, modes_json, reducible};
 pub use run::{run_scene, MAX_ECHO_CHARS};
@@ -42,6 +44,8 @@ pub enum Command {
         body: BodyArgs,
         #[command(flatten)]
         params: ParamArgs,
+        #[command(flatten)]
+        from_scene: SceneBodyArgs,
         /// Print one JSON object (otherwise a short text summary).
         #[arg(long)]
         json: bool,
@@ -54,6 +58,8 @@ pub enum Command {
         body: BodyArgs,
         #[command(flatten)]
         params: ParamArgs,
+        #[command(flatten)]
+        from_scene: SceneBodyArgs,
         /// Number of modes, lowest first (default: every elastic mode; with
         /// --boundary, every fixed-interface mode).
         #[arg(long)]
@@ -136,7 +142,29 @@ pub enum Command {
 /// Run a parsed command line.
 pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     match cli.command {
-        Some(Command::Invariants { body, params, json }) => {
+        Some(Command::Invariants {
+            from_scene:
+                SceneBodyArgs {
+                    scene: Some(path),
+                    body_name: Some(name),
+                },
+            json,
+            ..
+        }) => {
+            let (scene, id, f) = modes::scene_body(&path, &name)?;
+            let b = scene.system.body(id);
+            let (inv, labels) = (b.invariants(), &b.layout().labels);
+            check_invariants(&inv, labels, f.options.formalism)?;
+            if json {
+                crate::outln!("{}", serde_json::to_string(&invariants_json(&inv, labels))?)?;
+            } else {
+                print_summary(&b.layout().description, &inv, labels)?;
+            }
+            Ok(())
+        }
+        Some(Command::Invariants {
+            body, params, json, ..
+        }) => {
             let p = params.values();
             check_params(&p, &[])?;
             let beam = body.beam(p)?;
@@ -198,10 +226,11 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         Some(Command::Modes {
             body,
             params,
+            from_scene,
             count,
             boundary,
             json,
-        }) => modes(&body, &params, count, &boundary, json),
+        }) => modes(&body, &params, &from_scene, count, &boundary, json),
         Some(Command::Export {
             format,
             body,

@@ -2,7 +2,7 @@
 //! (as text or the JSON of `--json`) and written in MBDyn's modal `.fem` or
 //! SID (see docs/export.md).
 
-use super::{invariants_json, BodyArgs, ExportFormat, ParamArgs};
+use super::{invariants_json, BodyArgs, ExportFormat, ParamArgs, SceneBodyArgs};
 use crate::output;
 use ffr::codegen::export::{mbdyn_fem, sid, ExportBody};
 use ffr::codegen::modal::{ModalBasis, ModeKind};
@@ -59,15 +59,79 @@ pub fn modes_json(body: &ReducibleBody, basis: &ModalBasis) -> Value {
     })
 }
 
+/// The scene at `path` and its flexible body `name` (its id and how it was
+/// made); a rigid or unknown body is an error naming the flexible ones.
+pub fn scene_body(
+    path: &Path,
+    name: &str,
+) -> Result<
+    (
+        ffr::scene::Scene,
+        ffr::runtime::BodyId,
+        ffr::scene::FlexSpec,
+    ),
+    Box<dyn Error>,
+> {
+    let scene = ffr::scene::load(path)?;
+    let flexible: Vec<&str> = scene.flex.iter().map(|f| f.name.as_str()).collect();
+    let q = ffr::runtime::spec::text::quoted;
+    let Some(f) = scene.flex.iter().find(|f| f.name == name).cloned() else {
+        return Err(format!(
+            "{}: no flexible body `{}`; the scene's flexible bodies are {}",
+            path.display(),
+            q(name),
+            if flexible.is_empty() {
+                "none".to_string()
+            } else {
+                flexible.join(", ")
+            }
+        )
+        .into());
+    };
+    let id = scene
+        .system
+        .body_id(name)
+        .expect("a flexible body of the scene is in its system");
+    Ok((scene, id, f))
+}
+
+/// The body of `--scene FILE --body NAME`: equal elements through the exact
+/// invariants (as the flags describe the same body), a graded mesh through
+/// the runtime's assembly of its elements.
+fn reducible_from_scene(path: &Path, name: &str) -> Result<ReducibleBody, Box<dyn Error>> {
+    let (scene, id, f) = scene_body(path, name)?;
+    Ok(match &f.nodes {
+        None => ReducibleBody::from_parts(
+            &f.shape,
+            f.elements,
+            f.reference,
+            f.options.formalism,
+            f.params,
+        )?,
+        Some(nodes) => ReducibleBody::from_runtime(
+            &f.shape,
+            nodes,
+            f.reference,
+            f.options.formalism,
+            f.params,
+            &scene.system.body(id).invariants(),
+        )?,
+    })
+}
+
 /// `ffr modes`: print the frequencies (or, with `json`, the whole reduction).
 pub fn modes(
     body: &BodyArgs,
     params: &ParamArgs,
+    from_scene: &SceneBodyArgs,
     count: Option<usize>,
     boundary: &[usize],
     json: bool,
 ) -> Result<(), Box<dyn Error>> {
-    let b = reducible(body, params)?;
+    let b = match (&from_scene.scene, &from_scene.body_name) {
+        (Some(path), Some(name)) => reducible_from_scene(path, name)?,
+        _ => reducible(body, params)?,
+    };
     let basis = b.reduce(count, boundary, "--count")?;
     if json {
         crate::outln!("{}", serde_json::to_string(&modes_json(&b, &basis))?)?;
