@@ -15,7 +15,7 @@
 use crate::error::Error;
 use crate::poly::{rat, Monomial, Param, Poly, Sym};
 use crate::shape::Shape;
-pub use ffr_spec::{Dof, Formalism, Mesh, Reference, MAX_ELEMENTS};
+pub use ffr_spec::{Dof, Formalism, Mesh, Reference, SectionModel, SectionProp, MAX_ELEMENTS};
 
 /// A body: `elements` equal elements of `shape` along body x from 0 to `L`.
 #[derive(Clone, Debug)]
@@ -175,6 +175,123 @@ fn volume(shape: &Shape, f: &Poly) -> Result<Poly, Error> {
     Ok(section(shape, f)?.mul_monomial(&l_pow(1)).integrate_xi())
 }
 
+/// What a varying section integral weighs with: the mass (`ρ`) or the
+/// stiffness (`E`) distribution of the section.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Density {
+    /// `ρ`; `transverse`: the integrand is a product of two transverse
+    /// (`y`, `z`) components (of `S` or `ū₀`), whose second moments are the
+    /// torsional ones `½(ρJ ∓ (ρI_y − ρI_z)) + ρI_{z,y}` (see
+    /// [`varying_section_moment`]).
+    Mass { transverse: bool },
+    /// `E`.
+    Elastic,
+}
+
+fn mu(prop: SectionProp, k: u8) -> Poly {
+    Poly::var(Sym::Moment(prop, k))
+}
+
+/// `∫₀¹ ξ^k ∫ w η^a ζ^b dA dξ · l^{a+b}` for a varying section, as element
+/// moments (`y = lη`, `z = lζ`; centres of mass and tension on the x axis, so
+/// first moments vanish; `None` for those):
+///
+/// - mass: `(0,0)` `μ_{ρA,k}`; `(1,1)` `μ_{ρI_yz,k}`; `(2,0)` `μ_{ρI_z,k}`
+///   and `(0,2)` `μ_{ρI_y,k}`, except in a product of two transverse
+///   components, where the section turns about x as a whole (torsion, and
+///   the rigid rotation in `Θ`): there `(2,0)` is `½ (μ_{ρJ} − μ_{ρI_y} +
+///   μ_{ρI_z})` and `(0,2)` `½ (μ_{ρJ} + μ_{ρI_y} − μ_{ρI_z})`, which sum
+///   to `μ_{ρJ}` and equal `μ_{ρI_z}`, `μ_{ρI_y}` when `ρJ = ρI_y + ρI_z`;
+/// - stiffness: `(0,0)` `μ_{EA,k}`, `(2,0)` `μ_{EI_z,k}`, `(0,2)`
+///   `μ_{EI_y,k}`, `(1,1)` `μ_{EI_yz,k}`.
+fn varying_section_moment(density: Density, a: i32, b: i32, k: u8) -> Option<Option<Poly>> {
+    use SectionProp as P;
+    let half = |p: P, s: i64, q: P, t: i64, r: P, u: i64| {
+        mu(p, k)
+            .scale(&rat(s, 2))
+            .add(&mu(q, k).scale(&rat(t, 2)))
+            .add(&mu(r, k).scale(&rat(u, 2)))
+    };
+    Some(match (density, a, b) {
+        (_, 1, 0) | (_, 0, 1) => None,
+        (Density::Mass { .. }, 0, 0) => Some(mu(P::RhoA, k)),
+        (Density::Mass { .. }, 1, 1) => Some(mu(P::RhoIyz, k)),
+        (Density::Mass { transverse: false }, 2, 0) => Some(mu(P::RhoIz, k)),
+        (Density::Mass { transverse: false }, 0, 2) => Some(mu(P::RhoIy, k)),
+        (Density::Mass { transverse: true }, 2, 0) => {
+            Some(half(P::RhoJ, 1, P::RhoIy, -1, P::RhoIz, 1))
+        }
+        (Density::Mass { transverse: true }, 0, 2) => {
+            Some(half(P::RhoJ, 1, P::RhoIy, 1, P::RhoIz, -1))
+        }
+        (Density::Elastic, 0, 0) => Some(mu(P::Ea, k)),
+        (Density::Elastic, 2, 0) => Some(mu(P::EiZ, k)),
+        (Density::Elastic, 0, 2) => Some(mu(P::EiY, k)),
+        (Density::Elastic, 1, 1) => Some(mu(P::EiYz, k)),
+        _ => return None,
+    })
+}
+
+fn xi_power(shape: &Shape, k: i32) -> Result<u8, Error> {
+    u8::try_from(k).map_err(|_| {
+        Error::Body(format!(
+            "shape `{}`: an element integral has ξ^{k}; varying sections integrate powers up to ξ^255",
+            shape.name
+        ))
+    })
+}
+
+/// `∫ w f dV` over one element of a varying section (`w` = `ρ` or `E` by
+/// `density`): each term `c · ξ^k η^a ζ^b · r` becomes
+/// `c · r · l^{1 − a − b} · μ(a, b, k)` ([`varying_section_moment`]).
+fn varying_volume(shape: &Shape, f: &Poly, density: Density) -> Result<Poly, Error> {
+    let mut out = Poly::zero();
+    for (m, c) in f.terms() {
+        let (a, b) = (m.exp(Sym::Eta), m.exp(Sym::Zeta));
+        let (rest, k) = m.without(Sym::Xi);
+        let (rest, _) = rest.without(Sym::Eta);
+        let (rest, _) = rest.without(Sym::Zeta);
+        let moment = match varying_section_moment(density, a, b, xi_power(shape, k)?) {
+            Some(Some(mp)) => mp,
+            Some(None) => continue,
+            None => {
+                return Err(Error::Section {
+                    shape: shape.name.clone(),
+                    term: m.to_string(),
+                })
+            }
+        };
+        let scaled = moment.mul_monomial(&rest.mul(&l_pow(1 - a - b)));
+        out.add_assign(&scaled.scale(c));
+    }
+    Ok(out)
+}
+
+/// `∫₀¹ P(ξ) f(ξ) dξ` in the moments of `P`: each term `c · ξ^k · r` of `f`
+/// (no `η`, `ζ`) becomes `c · r · μ_{P,k}`.
+pub(crate) fn moment_integral(shape: &Shape, f: &Poly, prop: SectionProp) -> Result<Poly, Error> {
+    let mut out = Poly::zero();
+    for (m, c) in f.terms() {
+        let (rest, k) = m.without(Sym::Xi);
+        out.add_assign(&mu(prop, xi_power(shape, k)?).mul_monomial(&rest).scale(c));
+    }
+    Ok(out)
+}
+
+/// `∫ρ f dV` over one element: `ρ ∫ f dV` (uniform) or in the moments of
+/// the mass distribution (varying; `transverse`: see [`Density::Mass`]).
+fn mass_integral(
+    shape: &Shape,
+    sections: SectionModel,
+    f: &Poly,
+    transverse: bool,
+) -> Result<Poly, Error> {
+    match sections {
+        SectionModel::Uniform => Ok(p(Param::Rho).mul(&volume(shape, f)?)),
+        SectionModel::Varying => varying_volume(shape, f, Density::Mass { transverse }),
+    }
+}
+
 /// Element rows of `S` padded to three (zero z row in a planar shape).
 pub fn rows3(shape: &Shape) -> [Vec<Poly>; 3] {
     let n = shape.n_elem();
@@ -213,8 +330,16 @@ fn u0(shape: &Shape) -> [Poly; 3] {
 }
 
 /// The element stiffness `K_e = ∫ E (∂S_x/∂x)ᵀ(∂S_x/∂x) dV + ∫ G J φ'ᵀ φ' dx`,
-/// with the Saint-Venant torsion angle `φ = ½ (∂S_z/∂y − ∂S_y/∂z)`.
+/// with the Saint-Venant torsion angle `φ = ½ (∂S_z/∂y − ∂S_y/∂z)`
+/// (uniform section).
 pub fn element_stiffness(shape: &Shape) -> Result<PolyMatrix, Error> {
+    element_stiffness_with(shape, SectionModel::Uniform)
+}
+
+/// [`element_stiffness`] for a uniform or a varying section (varying: `E`
+/// weighs by the moments of `EA`, `EI_z`, `EI_y`, `EI_yz`, and `GJ` by its
+/// moments).
+pub fn element_stiffness_with(shape: &Shape, sections: SectionModel) -> Result<PolyMatrix, Error> {
     let [sx, sy, sz] = rows3(shape);
     let n = sx.len();
     let inv_l = l_pow(-1);
@@ -240,14 +365,28 @@ pub fn element_stiffness(shape: &Shape) -> Result<PolyMatrix, Error> {
     let mut k = PolyMatrix::zeros(n, n);
     for a in 0..n {
         for b in a..n {
-            let axial = e.mul(&volume(shape, &strain[a].mul(&strain[b]))?);
-            let torsion = gj.mul(
-                &phi_prime[a]
-                    .mul(&phi_prime[b])
-                    .mul_monomial(&l_pow(1))
-                    .integrate_xi(),
-            );
-            let v = axial.add(&torsion);
+            let v = match sections {
+                SectionModel::Uniform => {
+                    let axial = e.mul(&volume(shape, &strain[a].mul(&strain[b]))?);
+                    let torsion = gj.mul(
+                        &phi_prime[a]
+                            .mul(&phi_prime[b])
+                            .mul_monomial(&l_pow(1))
+                            .integrate_xi(),
+                    );
+                    axial.add(&torsion)
+                }
+                SectionModel::Varying => {
+                    let axial =
+                        varying_volume(shape, &strain[a].mul(&strain[b]), Density::Elastic)?;
+                    let torsion = moment_integral(
+                        shape,
+                        &phi_prime[a].mul(&phi_prime[b]).mul_monomial(&l_pow(1)),
+                        SectionProp::Gj,
+                    )?;
+                    axial.add(&torsion)
+                }
+            };
             *k.get_mut(a, b) = v.clone();
             *k.get_mut(b, a) = v;
         }
@@ -260,30 +399,41 @@ pub fn element_stiffness(shape: &Shape) -> Result<PolyMatrix, Error> {
 /// `l`, for the consistent or lumped formalism. `K_ff` is the element
 /// stiffness in both.
 pub fn element_invariants(shape: &Shape, formalism: Formalism) -> Result<ExactInvariants, Error> {
+    element_invariants_with(shape, formalism, SectionModel::Uniform)
+}
+
+/// [`element_invariants`] for a uniform or a varying section: varying,
+/// the invariants are polynomials in the element moments `μ_{P,k}`
+/// ([`Sym::Moment`]), `l` and `x₀` (theory: "Varying sections").
+pub fn element_invariants_with(
+    shape: &Shape,
+    formalism: Formalism,
+    sections: SectionModel,
+) -> Result<ExactInvariants, Error> {
     let mut inv = match formalism {
-        Formalism::Consistent => consistent_element(shape)?,
-        Formalism::Lumped => lumped_element(shape)?,
+        Formalism::Consistent => consistent_element(shape, sections)?,
+        Formalism::Lumped => lumped_element(shape, sections)?,
     };
-    inv.k_ff = element_stiffness(shape)?;
+    inv.k_ff = element_stiffness_with(shape, sections)?;
     Ok(inv)
 }
 
-fn consistent_element(shape: &Shape) -> Result<ExactInvariants, Error> {
-    let rho = p(Param::Rho);
+fn consistent_element(shape: &Shape, sections: SectionModel) -> Result<ExactInvariants, Error> {
+    let rho = |f: &Poly, transverse: bool| mass_integral(shape, sections, f, transverse);
     let rows = rows3(shape);
     let n = shape.n_elem();
     let u0 = u0(shape);
     let mut inv = ExactInvariants::zeros(shape.dimension, n);
-    inv.mass = rho.mul(&volume(shape, &Poly::int(1))?);
+    inv.mass = rho(&Poly::int(1), false)?;
     for k in 0..3 {
-        inv.s_t0[k] = rho.mul(&volume(shape, &u0[k])?);
+        inv.s_t0[k] = rho(&u0[k], false)?;
         for kk in 0..3 {
-            inv.theta[k][kk] = rho.mul(&volume(shape, &u0[k].mul(&u0[kk]))?);
+            inv.theta[k][kk] = rho(&u0[k].mul(&u0[kk]), k > 0 && kk > 0)?;
         }
         for a in 0..n {
-            *inv.s_bar.get_mut(k, a) = rho.mul(&volume(shape, &rows[k][a])?);
+            *inv.s_bar.get_mut(k, a) = rho(&rows[k][a], false)?;
             for ll in 0..3 {
-                inv.i_kl[k][ll][a] = rho.mul(&volume(shape, &u0[k].mul(&rows[ll][a]))?);
+                inv.i_kl[k][ll][a] = rho(&u0[k].mul(&rows[ll][a]), k > 0 && ll > 0)?;
             }
         }
     }
@@ -291,7 +441,7 @@ fn consistent_element(shape: &Shape) -> Result<ExactInvariants, Error> {
         for ll in k..3 {
             for a in 0..n {
                 for b in 0..n {
-                    let v = rho.mul(&volume(shape, &rows[k][a].mul(&rows[ll][b]))?);
+                    let v = rho(&rows[k][a].mul(&rows[ll][b]), k > 0 && ll > 0)?;
                     *inv.s_kl[ll][k].get_mut(b, a) = v.clone();
                     *inv.s_kl[k][ll].get_mut(a, b) = v;
                 }
@@ -315,15 +465,28 @@ fn consistent_element(shape: &Shape) -> Result<ExactInvariants, Error> {
 /// `S̄ = Σ m_p N_p`, `S̄_kl = Σ m_p N_pkᵀ N_pl`, `Ī_kl = Σ m_p ū₀_pk N_pl`,
 /// `Θ_kl = Σ m_p ū₀_pk ū₀_pl`. Summed over the elements this puts `m_e` on
 /// every inner node and `m_e/2` on the two end nodes, without rotary inertia.
-fn lumped_element(shape: &Shape) -> Result<ExactInvariants, Error> {
+/// A varying section puts `m_0 = l (μ_{ρA,0} − μ_{ρA,1})` at `ξ = 0` and
+/// `m_1 = l μ_{ρA,1}` at `ξ = 1` instead: the element's mass and its first
+/// moment (so `S_t0`) stay exact, and a uniform section gets halves again.
+fn lumped_element(shape: &Shape, sections: SectionModel) -> Result<ExactInvariants, Error> {
     let n = shape.n_elem();
-    let me = p(Param::Rho).mul(&volume(shape, &Poly::int(1))?);
-    let half = me.scale(&rat(1, 2));
     let centre = centre_rows(shape);
     let l = p(Param::ElemLength);
     let mut inv = ExactInvariants::zeros(shape.dimension, n);
-    inv.mass = me.clone();
-    for xi in [0i64, 1] {
+    let ends = match sections {
+        SectionModel::Uniform => {
+            let me = p(Param::Rho).mul(&volume(shape, &Poly::int(1))?);
+            let half = me.scale(&rat(1, 2));
+            inv.mass = me;
+            [half.clone(), half]
+        }
+        SectionModel::Varying => {
+            let (m0, m1) = (mu(SectionProp::RhoA, 0), mu(SectionProp::RhoA, 1));
+            inv.mass = l.mul(&m0);
+            [l.mul(&m0.sub(&m1)), l.mul(&m1)]
+        }
+    };
+    for (xi, half) in [0i64, 1].into_iter().zip(ends) {
         let at = |f: &Poly| f.substitute(Sym::Xi, &Poly::int(xi));
         let x = Poly::var(Sym::X0).add(&l.scale(&rat(xi, 1)));
         let u0 = [x, Poly::zero(), Poly::zero()];

@@ -45,7 +45,7 @@ pub struct Dag {
 pub fn is_input(s: Sym) -> bool {
     !matches!(
         s,
-        Sym::Param(_) | Sym::Xi | Sym::Eta | Sym::Zeta | Sym::Z(_)
+        Sym::Param(_) | Sym::Moment(..) | Sym::Xi | Sym::Eta | Sym::Zeta | Sym::Z(_)
     )
 }
 
@@ -73,7 +73,7 @@ fn is_trivial(p: &Poly) -> bool {
             let runtime: Vec<_> = m
                 .factors()
                 .iter()
-                .filter(|(s, _)| !matches!(s, Sym::Param(_)))
+                .filter(|(s, _)| !s.is_coefficient())
                 .collect();
             runtime.is_empty() || (runtime.len() == 1 && runtime[0].1 == 1 && c.is_one())
         }

@@ -40,13 +40,17 @@ pub use crate::sanitize::comment_text;
 /// A one-line description of a kernel set's input.
 pub fn describe(set: &KernelSet) -> String {
     let m = set.model();
-    format!(
+    let text = format!(
         "shape `{}` ({}, fnv1a {:016x}), {}",
         comment_text(&m.shape.name),
         comment_text(&m.shape.origin),
         m.shape.source_hash,
         m.resolved_options().describe()
-    )
+    );
+    match m.sections {
+        ffr_spec::SectionModel::Uniform => text,
+        ffr_spec::SectionModel::Varying => text + ", varying sections",
+    }
 }
 
 /// What the model leaves out, and why (one line each).
@@ -135,6 +139,7 @@ fn input_source(i: Input) -> String {
         Input::Param(Param::ElemLength) => "l".into(),
         Input::Param(p) => format!("params.{}", p.field()),
         Input::Coef(c) => format!("c[{c}]"),
+        Input::Moment(i) => format!("mu[{i}]"),
         Input::Sym(s) => match s {
             Sym::X0 => "x0".into(),
             Sym::Frame(k) => format!("frame[{k}]"),
@@ -440,6 +445,28 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str, layout: Layout) -> String {
                 writeln!(v.outputs, "let c: &mut [f64; {nc}] = c.try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
                 (format!("fn coefficients(&self, params: &{rt}::spec::Params, l: f64, c: &mut [f64])"), "")
             }
+            KernelKind::SectionCoefficients => {
+                let nm = set.section_moments.len();
+                writeln!(v.inputs, "let mu: &[f64; {nm}] = mu.try_into().expect(\"the moment array has {nm} entries\");").unwrap();
+                writeln!(v.outputs, "let c: &mut [f64; {nc}] = c.try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
+                let list = set
+                    .section_moments
+                    .iter()
+                    .map(|(p, k)| format!("({rt}::spec::SectionProp::{p:?}, {k})"))
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                let moments = format!(
+                    "fn section_moments(&self) -> &[({rt}::spec::SectionProp, u8)] {{ &[{list}] }}"
+                );
+                match layout {
+                    Layout::Pretty => s.push_str(&pretty(&moments, 1)),
+                    Layout::Tokens => writeln!(s, "{moments}").unwrap(),
+                }
+                (
+                    "fn section_coefficients(&self, mu: &[f64], l: f64, c: &mut [f64])".to_string(),
+                    "",
+                )
+            }
             KernelKind::Mass => {
                 v.coef();
                 v.scalar("x0", "x0", |s| s == Sym::X0);
@@ -644,6 +671,20 @@ fn header(what: &str, sets: &[(Option<String>, &KernelSet)], extra: &[String]) -
             set.coefficients.len()
         )
         .unwrap();
+        if !set.section_moments.is_empty() {
+            let names: Vec<String> = set
+                .section_moments
+                .iter()
+                .map(|(p, k)| format!("mu_{}_{k}", p.name()))
+                .collect();
+            writeln!(
+                h,
+                "// {ind}Varying sections: the coefficients of an element from its {} moments ({}).",
+                names.len(),
+                names.join(" ")
+            )
+            .unwrap();
+        }
         writeln!(h, "// {ind}Operations per call:").unwrap();
         writeln!(
             h,
@@ -652,6 +693,9 @@ fn header(what: &str, sets: &[(Option<String>, &KernelSet)], extra: &[String]) -
             set.coefficient_program.ops()
         )
         .unwrap();
+        if let Some(p) = &set.section_coefficient_program {
+            writeln!(h, "// {ind}  {:<20} {}", "section_coefficients", p.ops()).unwrap();
+        }
         for (name, p) in set.programs() {
             writeln!(h, "// {ind}  {name:<20} {}", p.ops()).unwrap();
         }

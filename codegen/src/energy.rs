@@ -15,10 +15,11 @@
 //! Both are the strain energy beyond `½ qᵀ K q`. The element means keep a
 //! linear axial / cubic transverse element free of membrane locking.
 
-use crate::body::{centre_rows, BodySpec};
+use crate::body::{centre_rows, moment_integral, BodySpec};
+use crate::error::Error;
 use crate::poly::{rat, Monomial, Param, Poly, Sym};
 use crate::shape::Shape;
-pub use ffr_spec::Stiffening;
+pub use ffr_spec::{SectionModel, SectionProp, Stiffening};
 
 /// The nonlinear strain energy of one element in element scalars.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -72,10 +73,25 @@ fn series(first: usize, len: usize) -> Poly {
 }
 
 /// The stiffening energy of one element of `shape` for `model` (`None` when
-/// off, or when the shape has no transverse slope to stiffen).
+/// off, or when the shape has no transverse slope to stiffen), uniform section.
 pub fn element_energy(shape: &Shape, model: Stiffening) -> Option<ElementEnergy> {
+    element_energy_with(shape, model, SectionModel::Uniform)
+        .expect("a uniform section integrates every stiffening term")
+}
+
+/// [`element_energy`] for a uniform or a varying section. Varying, the
+/// membrane terms take the element mean of the axial stiffness,
+/// `EA → μ_{EA,0}`, and the fourth-order bending part integrates the
+/// moments of the bending stiffnesses exactly, with the twisted section's
+/// product term: `½ l ∫₀¹ g [EI_z v''v' + EI_y w''w' + EI_yz (v''w' + v'w'')] dξ`,
+/// `g = v'v'' + w'w''` (theory: "Varying sections").
+pub fn element_energy_with(
+    shape: &Shape,
+    model: Stiffening,
+    sections: SectionModel,
+) -> Result<Option<ElementEnergy>, Error> {
     if !model.is_on() {
-        return None;
+        return Ok(None);
     }
     let mut scalars: Vec<Vec<Poly>> = Vec::new();
     let mut names = Vec::new();
@@ -107,10 +123,13 @@ pub fn element_energy(shape: &Shape, model: Stiffening) -> Option<ElementEnergy>
     let v1 = slope(1, "dv");
     let w1 = slope(2, "dw");
     if v1.is_zero() && w1.is_zero() {
-        return None;
+        return Ok(None);
     }
     let l = p(Param::ElemLength);
-    let ea = p(Param::E).mul(&p(Param::Area));
+    let ea = match sections {
+        SectionModel::Uniform => p(Param::E).mul(&p(Param::Area)),
+        SectionModel::Varying => Poly::var(Sym::Moment(SectionProp::Ea, 0)),
+    };
     let ubar = Poly::var(Sym::Z(0));
     let mut derived = Vec::new();
     let mut derive = |name: &str, def: Poly| {
@@ -142,26 +161,38 @@ pub fn element_energy(shape: &Shape, model: Stiffening) -> Option<ElementEnergy>
             let v2 = v1.diff(Sym::Xi).mul_monomial(&inv_l);
             let w2 = w1.diff(Sym::Xi).mul_monomial(&inv_l);
             let coupling = v1.mul(&v2).add(&w1.mul(&w2));
-            let bend = p(Param::E)
-                .mul(&p(Param::Iz))
-                .mul(&v2.mul(&v1).mul(&coupling))
-                .add(
-                    &p(Param::E)
-                        .mul(&p(Param::Iy))
-                        .mul(&w2.mul(&w1).mul(&coupling)),
-                )
-                .integrate_xi()
-                .mul(&l)
-                .scale(&rat(1, 2));
+            let bend = match sections {
+                SectionModel::Uniform => p(Param::E)
+                    .mul(&p(Param::Iz))
+                    .mul(&v2.mul(&v1).mul(&coupling))
+                    .add(
+                        &p(Param::E)
+                            .mul(&p(Param::Iy))
+                            .mul(&w2.mul(&w1).mul(&coupling)),
+                    )
+                    .integrate_xi(),
+                SectionModel::Varying => {
+                    let cross = v2.mul(&w1).add(&v1.mul(&w2)).mul(&coupling);
+                    moment_integral(shape, &v2.mul(&v1).mul(&coupling), SectionProp::EiZ)?
+                        .add(&moment_integral(
+                            shape,
+                            &w2.mul(&w1).mul(&coupling),
+                            SectionProp::EiY,
+                        )?)
+                        .add(&moment_integral(shape, &cross, SectionProp::EiYz)?)
+                }
+            }
+            .mul(&l)
+            .scale(&rat(1, 2));
             axial.add(&bend)
         }
     };
-    Some(ElementEnergy {
+    Ok(Some(ElementEnergy {
         scalars,
         names,
         derived,
         energy,
-    })
+    }))
 }
 
 impl ElementEnergy {

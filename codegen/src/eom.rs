@@ -21,13 +21,13 @@
 // the theory): index loops read closer to the formulas than iterators.
 #![allow(clippy::needless_range_loop)]
 
-use crate::body::{element_invariants, rows3, ExactInvariants};
+use crate::body::{element_invariants_with, rows3, ExactInvariants};
 use crate::dag::{linear, Dag};
-use crate::energy::{element_energy, ElementEnergy};
+use crate::energy::{element_energy_with, ElementEnergy};
 use crate::error::Error;
 use crate::poly::{rat, Param, Poly, Sym};
 use crate::shape::Shape;
-use ffr_spec::{KernelOptions, SceneDim};
+use ffr_spec::{KernelOptions, SceneDim, SectionModel};
 
 /// What a set of element kernels is generated for: a shape and the
 /// options ([`KernelOptions`]; planar kernels have frame motion in the x–y
@@ -39,12 +39,25 @@ pub struct KernelModel {
     pub shape: Shape,
     /// The options (scene `None`: the shape's dimension).
     pub options: KernelOptions,
+    /// Uniform section (in the body parameters) or varying (in per-element
+    /// moments of the section properties); default uniform.
+    pub sections: SectionModel,
 }
 
 impl KernelModel {
-    /// `shape` with `options`.
+    /// `shape` with `options`, uniform section.
     pub fn new(shape: Shape, options: KernelOptions) -> Self {
-        Self { shape, options }
+        Self {
+            shape,
+            options,
+            sections: SectionModel::Uniform,
+        }
+    }
+
+    /// The same model with this section model.
+    pub fn with_sections(mut self, sections: SectionModel) -> Self {
+        self.sections = sections;
+        self
     }
 
     /// The scene, resolved against the shape's dimension.
@@ -191,8 +204,8 @@ fn bilinear(
 impl KernelModel {
     /// Build every kernel's polynomials.
     pub fn polys(&self) -> Result<KernelPolys, Error> {
-        let inv = element_invariants(&self.shape, self.options.formalism)?;
-        let energy_form = element_energy(&self.shape, self.options.stiffening);
+        let inv = element_invariants_with(&self.shape, self.options.formalism, self.sections)?;
+        let energy_form = element_energy_with(&self.shape, self.options.stiffening, self.sections)?;
         let n = inv.nf;
         let mut dag = Dag::new();
 

@@ -3,9 +3,9 @@
 
 use crate::eom::{KernelModel, KernelPolys, Outputs};
 use crate::error::Error;
-use crate::poly::Param;
+use crate::poly::{Param, SectionProp};
 use crate::program::{Coefficients, Program, ProgramBuilder};
-use ffr_spec::KernelKind;
+use ffr_spec::{KernelKind, SectionModel};
 
 /// Every program of one kernel set.
 #[derive(Clone, Debug)]
@@ -14,8 +14,14 @@ pub struct KernelSet {
     pub polys: KernelPolys,
     /// The coefficients all kernels read.
     pub coefficients: Coefficients,
-    /// Parameters (and `l`) → coefficients.
+    /// Parameters (and `l`) → coefficients (a varying section: those of a
+    /// uniform body, every moment at its constant-property value).
     pub coefficient_program: Program,
+    /// The element moments `(P, k)` the coefficients read, in the order of
+    /// the section coefficient program's `mu` (empty for a uniform section).
+    pub section_moments: Vec<(SectionProp, u8)>,
+    /// Element moments `mu` (and `l`) → coefficients (varying section only).
+    pub section_coefficient_program: Option<Program>,
     /// `mass(q)`.
     pub mass: Program,
     /// `residual(…)` with reference rows (free frame only).
@@ -50,6 +56,7 @@ impl KernelSet {
     pub fn program(&self, kind: KernelKind) -> Option<&Program> {
         match kind {
             KernelKind::Coefficients => Some(&self.coefficient_program),
+            KernelKind::SectionCoefficients => self.section_coefficient_program.as_ref(),
             KernelKind::Mass => Some(&self.mass),
             KernelKind::Residual => self.residual.as_ref(),
             KernelKind::Tangent => self.tangent.as_ref(),
@@ -100,11 +107,20 @@ pub fn generate_kernels(model: &KernelModel) -> Result<KernelSet, Error> {
     let energy = build(&polys.energy);
     let element_invariants = build(&polys.element_invariants);
     let point_shape = build(&polys.point_shape);
-    let coefficient_program = coefficients.program();
+    let (coefficient_program, section_moments, section_coefficient_program) = match model.sections {
+        SectionModel::Uniform => (coefficients.program(), Vec::new(), None),
+        SectionModel::Varying => {
+            let moments = coefficients.moments();
+            let section = coefficients.section_program(&moments);
+            (coefficients.uniform_program(), moments, Some(section))
+        }
+    };
     Ok(KernelSet {
         polys,
         coefficients,
         coefficient_program,
+        section_moments,
+        section_coefficient_program,
         mass,
         residual,
         tangent,

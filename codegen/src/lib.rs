@@ -41,6 +41,8 @@ pub use builder::{BodyConfig, Builder, KernelConfig};
 pub use emit::{emit_body_file, emit_kernels_file, EmitOptions};
 pub use eom::KernelModel;
 pub use error::{Error, Location};
-pub use ffr_spec::{FrameModel, KernelOptions, Params, SceneDim, Stiffening};
+pub use ffr_spec::{
+    FrameModel, KernelOptions, Params, SceneDim, SectionModel, SectionProp, Stiffening,
+};
 pub use kernel::{generate_checked, generate_kernels, KernelSet};
 pub use shape::{Kind, Shape};

@@ -146,6 +146,9 @@ pub fn check_params(p: &Params, used: &[Param]) -> Result<(), Error> {
 /// literal belongs to (the program's output, or the temporary).
 pub fn check_literals(set: &KernelSet) -> Result<(), Error> {
     check_program(&set.coefficient_program, "coefficients()")?;
+    if let Some(p) = &set.section_coefficient_program {
+        check_program(p, "section_coefficients()")?;
+    }
     for (function, p) in set.programs() {
         check_program(p, function)?;
     }

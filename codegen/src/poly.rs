@@ -45,6 +45,9 @@ pub enum Sym {
     Zeta,
     /// A body parameter (element or body length, density, section, material).
     Param(Param),
+    /// The element moment `μ_{P,k} = ∫₀¹ P(ξ) ξ^k dξ` of a section property
+    /// (varying sections: a per-element coefficient input, like a parameter).
+    Moment(SectionProp, u8),
     /// Kernel input: the element's offset `x₀` along body x.
     X0,
     /// Kernel input: the frame motion in body axes, `0..3` `ā = Aᵀ(R̈ − g)`,
@@ -70,7 +73,15 @@ pub const FRAME_NAMES: [&str; 9] = [
     "a_x", "a_y", "a_z", "alpha_x", "alpha_y", "alpha_z", "w_x", "w_y", "w_z",
 ];
 
-pub use ffr_spec::Param;
+pub use ffr_spec::{Param, SectionProp};
+
+impl Sym {
+    /// Whether the symbol is folded into coefficients (a parameter or an
+    /// element moment) rather than read by a kernel call.
+    pub fn is_coefficient(self) -> bool {
+        matches!(self, Sym::Param(_) | Sym::Moment(..))
+    }
+}
 
 impl fmt::Display for Sym {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -79,6 +90,7 @@ impl fmt::Display for Sym {
             Sym::Eta => write!(f, "eta"),
             Sym::Zeta => write!(f, "zeta"),
             Sym::Param(p) => write!(f, "{}", p.field()),
+            Sym::Moment(p, k) => write!(f, "mu_{}_{k}", p.name()),
             Sym::X0 => write!(f, "x0"),
             Sym::Frame(k) => write!(f, "{}", FRAME_NAMES[*k as usize]),
             Sym::Bp => write!(f, "bp"),

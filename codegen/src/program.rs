@@ -15,7 +15,7 @@
 
 use crate::dag::Dag;
 use crate::eom::OutArr;
-use crate::poly::{to_f64, Monomial, Param, Poly, Rational, Sym};
+use crate::poly::{rat, to_f64, Monomial, Param, Poly, Rational, SectionProp, Sym};
 
 use num_traits::{One, Signed};
 use std::collections::{BTreeMap, HashMap};
@@ -63,6 +63,9 @@ pub enum Input {
     Param(Param),
     /// Coefficient `c[i]`.
     Coef(u32),
+    /// Element moment `mu[i]` (section coefficient program only; `i` indexes
+    /// the kernel set's list of moments).
+    Moment(u32),
     /// A kernel input: `x0`, `frame[k]`, `bp`, `gp`, `q[i]`, `qd[i]`, `qdd[i]`, `xi`.
     Sym(Sym),
 }
@@ -141,6 +144,8 @@ pub struct Inputs<'a> {
     pub params: &'a [f64],
     /// Coefficients.
     pub coef: &'a [f64],
+    /// Element moments of the section properties (the kernel set's list).
+    pub mu: &'a [f64],
     /// `x₀`.
     pub x0: f64,
     /// `ā, α, ω` in body axes.
@@ -166,6 +171,7 @@ impl Inputs<'_> {
             Input::Param(Param::ElemLength) => self.params[8],
             Input::Param(p) => self.params[p.field_index().expect("field")],
             Input::Coef(c) => self.coef[c as usize],
+            Input::Moment(i) => self.mu[i as usize],
             Input::Sym(s) => match s {
                 Sym::X0 => self.x0,
                 Sym::Frame(k) => self.frame[k as usize],
@@ -307,6 +313,56 @@ impl Coefficients {
         b.prog
     }
 
+    /// The element moments the coefficients read (varying sections), sorted.
+    pub fn moments(&self) -> Vec<(SectionProp, u8)> {
+        let mut v: Vec<(SectionProp, u8)> = self
+            .entries
+            .iter()
+            .flat_map(|p| {
+                p.terms()
+                    .flat_map(|(m, _)| m.factors().iter())
+                    .filter_map(|(s, _)| match s {
+                        Sym::Moment(p, k) => Some((*p, *k)),
+                        _ => None,
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        v.sort();
+        v.dedup();
+        v
+    }
+
+    /// The section coefficient program of a varying section: the element
+    /// moments `mu[i]` (in the order of `moments`) and `l` in, `c[i]` out.
+    pub fn section_program(&self, moments: &[(SectionProp, u8)]) -> Program {
+        let mut b = ProgramBuilder::new(None);
+        b.moment_table = moments.to_vec();
+        for (i, p) in self.entries.iter().enumerate() {
+            let e = b.param_poly(p);
+            b.prog.outputs.push(((OutArr::Coef, i as u32), e));
+        }
+        b.prog
+    }
+
+    /// The coefficient program of a varying section for a uniform body: every
+    /// moment replaced by its value for constant properties,
+    /// `μ_{P,k} = P/(k+1)` with `P` in the parameters
+    /// ([`uniform_property`]).
+    pub fn uniform_program(&self) -> Program {
+        let mut b = ProgramBuilder::new(None);
+        for (i, p) in self.entries.iter().enumerate() {
+            let mut q = p.clone();
+            for (prop, k) in self.moments() {
+                let value = uniform_property(prop).scale(&rat(1, k as i64 + 1));
+                q = q.substitute(Sym::Moment(prop, k), &value);
+            }
+            let e = b.param_poly(&q);
+            b.prog.outputs.push(((OutArr::Coef, i as u32), e));
+        }
+        b.prog
+    }
+
     /// Number of coefficients.
     pub fn len(&self) -> usize {
         self.entries.len()
@@ -315,6 +371,23 @@ impl Coefficients {
     /// Whether there are none.
     pub fn is_empty(&self) -> bool {
         self.entries.is_empty()
+    }
+}
+
+/// A section property of a uniform body in its parameters: `ρA`, `ρI_y`,
+/// `ρI_z`, 0, `ρ(I_y + I_z)`, `EA`, `EI_y`, `EI_z`, 0, `GJ`.
+pub fn uniform_property(prop: SectionProp) -> Poly {
+    let v = |a: Param, b: Param| Poly::var(Sym::Param(a)).mul(&Poly::var(Sym::Param(b)));
+    match prop {
+        SectionProp::RhoA => v(Param::Rho, Param::Area),
+        SectionProp::RhoIy => v(Param::Rho, Param::Iy),
+        SectionProp::RhoIz => v(Param::Rho, Param::Iz),
+        SectionProp::RhoIyz | SectionProp::EiYz => Poly::zero(),
+        SectionProp::RhoJ => v(Param::Rho, Param::Iy).add(&v(Param::Rho, Param::Iz)),
+        SectionProp::Ea => v(Param::E, Param::Area),
+        SectionProp::EiY => v(Param::E, Param::Iy),
+        SectionProp::EiZ => v(Param::E, Param::Iz),
+        SectionProp::Gj => v(Param::G, Param::J),
     }
 }
 
@@ -341,6 +414,8 @@ pub struct ProgramBuilder<'c> {
     monomials: HashMap<Monomial, u32>,
     inputs: HashMap<Input, u32>,
     zs: HashMap<u32, Expr>,
+    /// The element moments a section coefficient program reads, in input order.
+    moment_table: Vec<(SectionProp, u8)>,
 }
 
 impl<'c> ProgramBuilder<'c> {
@@ -354,6 +429,7 @@ impl<'c> ProgramBuilder<'c> {
             monomials: HashMap::new(),
             inputs: HashMap::new(),
             zs: HashMap::new(),
+            moment_table: Vec::new(),
         }
     }
 
@@ -377,6 +453,10 @@ impl<'c> ProgramBuilder<'c> {
         let name = match i {
             Input::Param(p) => p.field().to_string(),
             Input::Coef(c) => format!("c{c}"),
+            Input::Moment(i) => {
+                let (p, k) = self.moment_table[i as usize];
+                Sym::Moment(p, k).to_string()
+            }
             Input::Sym(s) => s.to_string(),
         };
         let id = self.slot(name);
@@ -398,6 +478,16 @@ impl<'c> ProgramBuilder<'c> {
                 panic!("intermediate z{m} used before it was bound (a generator bug)")
             }),
             Sym::Param(p) => Expr::Var(self.input(Input::Param(p))),
+            Sym::Moment(p, k) => {
+                let i = self
+                    .moment_table
+                    .iter()
+                    .position(|&m| m == (p, k))
+                    .unwrap_or_else(|| {
+                        panic!("{s} outside the section coefficient program (a generator bug)")
+                    });
+                Expr::Var(self.input(Input::Moment(i as u32)))
+            }
             s => Expr::Var(self.input(Input::Sym(s))),
         }
     }
@@ -534,7 +624,7 @@ impl<'c> ProgramBuilder<'c> {
     pub fn poly(&mut self, p: &Poly) -> Expr {
         let mut groups: BTreeMap<Monomial, BTreeMap<Monomial, Poly>> = BTreeMap::new();
         for (m, c) in p.terms() {
-            let (params, rest) = m.split(|s| matches!(s, Sym::Param(_)));
+            let (params, rest) = m.split(|s| s.is_coefficient());
             let (outer, inner) = rest.split(is_outer);
             groups
                 .entry(outer)

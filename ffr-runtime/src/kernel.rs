@@ -15,7 +15,7 @@
 //! slices; outputs not written by a kernel are structurally zero, so callers
 //! clear their buffers before a call.
 
-use ffr_spec::{ElementCoordinate, KernelOptions, Param, Params, Reference};
+use ffr_spec::{ElementCoordinate, KernelOptions, Param, Params, Reference, SectionProp};
 use std::borrow::Cow;
 
 /// What a set of element kernels was generated for.
@@ -134,6 +134,28 @@ pub trait ElementKernels: Send + Sync {
     /// values `params` and element length `l = L/N`.
     fn coefficients(&self, params: &Params, l: f64, c: &mut [f64]);
 
+    /// The element moments `μ_{P,k} = ∫₀¹ P(ξ) ξ^k dξ` of the section
+    /// properties that [`ElementKernels::section_coefficients`] reads, in
+    /// the order of its `mu` (see `ffr_spec::element_moments`). Empty for
+    /// kernels of a uniform section, which take their coefficients from the
+    /// body's parameters only.
+    fn section_moments(&self) -> &[(SectionProp, u8)] {
+        &[]
+    }
+
+    /// The coefficients `c` (length `info().n_coefficients`) of one element
+    /// of a varying section, from its moments `mu` (in the order of
+    /// [`ElementKernels::section_moments`]) and its length `l` (only for
+    /// kernels with a non-empty `section_moments`; `coefficients` gives the
+    /// same kernels' coefficients for a uniform body).
+    fn section_coefficients(&self, mu: &[f64], l: f64, c: &mut [f64]) {
+        let _ = (mu, l, c);
+        unreachable!(
+            "kernels of `{}` were generated for a uniform section: no section_coefficients (use coefficients)",
+            self.info().shape
+        )
+    }
+
     /// `S_t` and the acceleration-linear blocks at `q`.
     fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut MassOut, scratch: &mut [f64]);
 
@@ -224,6 +246,12 @@ macro_rules! forward_element_kernels {
             }
             fn coefficients(&self, params: &$crate::spec::Params, l: f64, c: &mut [f64]) {
                 $dispatch!(self, k => k.coefficients(params, l, c))
+            }
+            fn section_moments(&self) -> &[($crate::spec::SectionProp, u8)] {
+                $dispatch!(self, k => k.section_moments())
+            }
+            fn section_coefficients(&self, mu: &[f64], l: f64, c: &mut [f64]) {
+                $dispatch!(self, k => k.section_coefficients(mu, l, c))
             }
             fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut $crate::MassOut, s: &mut [f64]) {
                 $dispatch!(self, k => k.mass(c, x0, q, out, s))

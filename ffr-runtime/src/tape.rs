@@ -7,7 +7,7 @@
 //! kernels are checked against bit for bit (`ffr-bench`). Feature `tape`
 //! (it needs the generator, `ffr-codegen`).
 
-use crate::spec::{KernelKind, Params};
+use crate::spec::{KernelKind, Params, SectionProp};
 use crate::{ElementKernels, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut};
 use ffr_codegen::eom::OutArr;
 use ffr_codegen::program::{Inputs, Tape};
@@ -18,6 +18,8 @@ use std::borrow::Cow;
 #[derive(Debug)]
 pub struct TapeKernels {
     info: KernelInfo,
+    /// The element moments `section_coefficients` reads (varying sections).
+    section_moments: Vec<(SectionProp, u8)>,
     /// One tape per [`KernelKind`] (`None`: not generated, the reference
     /// rows of a prescribed frame).
     tapes: [Option<Tape>; KernelKind::ALL.len()],
@@ -46,6 +48,7 @@ impl TapeKernels {
                 params_used: Cow::Owned(set.params_used()),
                 scratch,
             },
+            section_moments: set.section_moments.clone(),
             tapes,
         }
     }
@@ -54,7 +57,7 @@ impl TapeKernels {
     fn tape(&self, k: KernelKind) -> &Tape {
         self.tapes[k.index()].as_ref().unwrap_or_else(|| {
             panic!(
-                "kernels of `{}` were generated without `{}` (the reference rows: prescribed frame motion only)",
+                "kernels of `{}` were generated without `{}` (the reference rows: prescribed frame motion only; section_coefficients: uniform section)",
                 self.info.shape,
                 k.name()
             )
@@ -97,6 +100,33 @@ impl ElementKernels for TapeKernels {
             t,
             &Inputs {
                 params: &p,
+                ..Inputs::default()
+            },
+            &mut scratch,
+            |_, i, v| c[i] = v,
+        );
+    }
+
+    fn section_moments(&self) -> &[(SectionProp, u8)] {
+        &self.section_moments
+    }
+
+    fn section_coefficients(&self, mu: &[f64], l: f64, c: &mut [f64]) {
+        assert_eq!(
+            mu.len(),
+            self.section_moments.len(),
+            "the moment array has {} entries",
+            self.section_moments.len()
+        );
+        let mut p = [0.0; 9];
+        p[8] = l; // `Param::ElemLength`, the only parameter it reads
+        let t = self.tape(KernelKind::SectionCoefficients);
+        let mut scratch = vec![0.0; t.n_slots()];
+        run(
+            t,
+            &Inputs {
+                params: &p,
+                mu,
                 ..Inputs::default()
             },
             &mut scratch,

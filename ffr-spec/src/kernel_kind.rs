@@ -9,6 +9,10 @@
 pub enum KernelKind {
     /// The coefficients `c` from the parameter values and `l` (once per body).
     Coefficients,
+    /// The per-element coefficients `c` from the element moments `μ` of the
+    /// section properties and `l` (kernels of varying sections only: once
+    /// per element).
+    SectionCoefficients,
     /// `S_t` and the acceleration-linear blocks at `q`.
     Mass,
     /// `f_r`, `f_θ`, `f_e` (free frame only).
@@ -29,8 +33,9 @@ pub enum KernelKind {
 
 impl KernelKind {
     /// Every kernel, in the order generated files define them.
-    pub const ALL: [KernelKind; 9] = [
+    pub const ALL: [KernelKind; 10] = [
         KernelKind::Coefficients,
+        KernelKind::SectionCoefficients,
         KernelKind::Mass,
         KernelKind::Residual,
         KernelKind::Tangent,
@@ -43,15 +48,23 @@ impl KernelKind {
 
     /// The kernels run per element and call (all but the coefficients).
     pub fn per_call() -> impl Iterator<Item = KernelKind> {
-        Self::ALL
-            .into_iter()
-            .filter(|k| *k != KernelKind::Coefficients)
+        Self::ALL.into_iter().filter(|k| !k.is_coefficients())
+    }
+
+    /// Whether the kernel computes coefficients (per body or per element)
+    /// rather than element quantities.
+    pub const fn is_coefficients(self) -> bool {
+        matches!(
+            self,
+            KernelKind::Coefficients | KernelKind::SectionCoefficients
+        )
     }
 
     /// The method's name in `ElementKernels` (and in generated headers).
     pub const fn name(self) -> &'static str {
         match self {
             KernelKind::Coefficients => "coefficients",
+            KernelKind::SectionCoefficients => "section_coefficients",
             KernelKind::Mass => "mass",
             KernelKind::Residual => "residual",
             KernelKind::Tangent => "tangent",

@@ -18,6 +18,7 @@ mod mesh;
 mod options;
 mod params;
 pub mod scene;
+mod section;
 pub mod text;
 
 pub use kernel_kind::KernelKind;
@@ -26,6 +27,7 @@ pub use location::Location;
 pub use mesh::{Dof, ElementCoordinate, Kind, Mesh, MeshError, Reference, MAX_ELEMENTS};
 pub use options::{Formalism, Stiffening};
 pub use params::{Param, ParamError, Params};
+pub use section::{element_moments, SectionError, SectionModel, SectionProp};
 
 /// Offsets of the flat array of one element's invariants for `n` element
 /// coordinates, and its length: `[m, S_t0 (3), S̄ (3 n), S̄_kl (9 n²; k, l,
