@@ -35,6 +35,8 @@ pub struct ReducibleBody {
     pub available: usize,
     /// The nodes of a graded mesh (`None`: equal elements).
     pub nodes: Option<Vec<f64>>,
+    /// Whether the section varies along the span (a section table).
+    pub varying_sections: bool,
 }
 
 /// The runtime parameters a polynomial's terms contain.
@@ -110,17 +112,24 @@ impl ReducibleBody {
             dofs,
             available,
             nodes: None,
+            varying_sections: false,
         })
     }
 
-    /// A body on a graded mesh (`nodes`, from [`crate::runtime::KernelBody::with_nodes`]):
-    /// the invariants are the runtime's assembly `inv` of its elements
-    /// (the exact invariants are those of equal elements), checked like
-    /// [`ReducibleBody::from_parts`]. Clamped and pinned bodies only: a free
-    /// body's rigid-body motions are written for equal elements.
+    /// A body on a graded mesh (`nodes`: `Some`, from
+    /// [`crate::runtime::KernelBody::with_nodes`]) or with varying sections
+    /// (`varying_sections`, equal elements when `nodes` is `None`): the
+    /// invariants are the runtime's assembly `inv` of its elements (the
+    /// exact invariants are those of equal elements of one section),
+    /// checked like [`ReducibleBody::from_parts`]. Clamped and pinned bodies
+    /// only: a free body's rigid-body motions are written for equal
+    /// elements.
+    #[allow(clippy::too_many_arguments)]
     pub fn from_runtime(
         shape: &str,
-        nodes: &[f64],
+        elements: usize,
+        nodes: Option<&[f64]>,
+        varying_sections: bool,
         reference: Reference,
         formalism: Formalism,
         p: Params,
@@ -132,7 +141,6 @@ impl ReducibleBody {
                     .into(),
             );
         }
-        let elements = nodes.len().saturating_sub(1);
         let shape = Shape::resolve(shape, None)?;
         let spec = BodySpec::new(shape, elements, reference)?.with_formalism(formalism);
         let dofs: Vec<String> = spec.dofs().iter().map(|d| d.to_string()).collect();
@@ -159,7 +167,8 @@ impl ReducibleBody {
             invariants,
             dofs,
             available,
-            nodes: Some(nodes.to_vec()),
+            nodes: nodes.map(<[f64]>::to_vec),
+            varying_sections,
         })
     }
 
@@ -293,11 +302,16 @@ impl ReducibleBody {
     /// One line naming the body.
     pub fn description(&self) -> String {
         format!(
-            "{} ({}), {} {}elements, {}, {} formalism: {} elastic coordinates, {} elastic modes",
+            "{} ({}), {} {}elements{}, {}, {} formalism: {} elastic coordinates, {} elastic modes",
             self.spec.shape.name,
             self.spec.shape.origin,
             self.spec.elements,
             if self.nodes.is_some() { "graded " } else { "" },
+            if self.varying_sections {
+                " with varying sections"
+            } else {
+                ""
+            },
             self.spec.reference,
             self.spec.formalism,
             self.dofs.len(),

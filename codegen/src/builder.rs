@@ -523,7 +523,7 @@ pub fn generate_scene(
             let shape = resolve_shape(&m.shape, &dir)?;
             Ok((
                 m.name,
-                generate_checked(&KernelModel::new(shape, m.options))?,
+                generate_checked(&KernelModel::new(shape, m.options).with_sections(m.sections))?,
             ))
         })
         .collect::<Result<Vec<_>, Error>>()?;

@@ -16,7 +16,8 @@ use crate::error::{Error, Result};
 use crate::kernel::{
     invariant_layout, CompiledBody, ElementKernels, KernelInput, MassOut, ResidualOut, TangentOut,
 };
-use ffr_spec::{Mesh, Params, Reference};
+use ffr_spec::scene::Station;
+use ffr_spec::{Mesh, Params, Reference, SectionProp};
 
 const REMOVED: usize = usize::MAX;
 
@@ -38,6 +39,46 @@ pub struct KernelBody<K> {
     /// `x0[e]` and has length `lengths[e]`.
     x0: Vec<f64>,
     lengths: Vec<f64>,
+}
+
+/// The nodes of a graded mesh checked: 2 to `MAX_ELEMENTS + 1`, finite, the
+/// first at 0, the last at `length`, strictly increasing.
+fn check_nodes(nodes: &[f64], length: f64) -> Result<()> {
+    let n = nodes.len();
+    if !(2..=ffr_spec::MAX_ELEMENTS + 1).contains(&n) {
+        return Err(Error::InvalidInput(format!(
+            "a mesh needs 2 to {} nodes (1 to {} elements), found {n}",
+            ffr_spec::MAX_ELEMENTS + 1,
+            ffr_spec::MAX_ELEMENTS
+        )));
+    }
+    if let Some((i, x)) = nodes.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+        return Err(Error::InvalidInput(format!(
+            "node {i} is at x = {x}: nodes must be finite"
+        )));
+    }
+    if nodes[0] != 0.0 {
+        return Err(Error::InvalidInput(format!(
+            "the first node is at x = {}: a mesh starts at the body's root, x = 0",
+            nodes[0]
+        )));
+    }
+    if nodes[n - 1] != length {
+        return Err(Error::InvalidInput(format!(
+            "the last node is at x = {}: a mesh ends at the body's length, x = L = {} m",
+            nodes[n - 1],
+            length
+        )));
+    }
+    if let Some(i) = (1..n).find(|&i| nodes[i] <= nodes[i - 1]) {
+        return Err(Error::InvalidInput(format!(
+            "nodes {} and {i} are at x = {} and x = {}: nodes must increase strictly",
+            i - 1,
+            nodes[i - 1],
+            nodes[i]
+        )));
+    }
+    Ok(())
 }
 
 /// Offsets of the scratch regions of one element evaluation.
@@ -73,40 +114,8 @@ impl<K: ElementKernels> KernelBody<K> {
         nodes: &[f64],
         reference: Reference,
     ) -> Result<Self> {
+        check_nodes(nodes, params.length)?;
         let n = nodes.len();
-        if !(2..=ffr_spec::MAX_ELEMENTS + 1).contains(&n) {
-            return Err(Error::InvalidInput(format!(
-                "a mesh needs 2 to {} nodes (1 to {} elements), found {n}",
-                ffr_spec::MAX_ELEMENTS + 1,
-                ffr_spec::MAX_ELEMENTS
-            )));
-        }
-        if let Some((i, x)) = nodes.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "node {i} is at x = {x}: nodes must be finite"
-            )));
-        }
-        if nodes[0] != 0.0 {
-            return Err(Error::InvalidInput(format!(
-                "the first node is at x = {}: a mesh starts at the body's root, x = 0",
-                nodes[0]
-            )));
-        }
-        if nodes[n - 1] != params.length {
-            return Err(Error::InvalidInput(format!(
-                "the last node is at x = {}: a mesh ends at the body's length, x = L = {} m",
-                nodes[n - 1],
-                params.length
-            )));
-        }
-        if let Some(i) = (1..n).find(|&i| nodes[i] <= nodes[i - 1]) {
-            return Err(Error::InvalidInput(format!(
-                "nodes {} and {i} are at x = {} and x = {}: nodes must increase strictly",
-                i - 1,
-                nodes[i - 1],
-                nodes[i]
-            )));
-        }
         // Nodes exactly at `e·L/N`: the equal mesh, as `new` builds it.
         let elements = n - 1;
         let l = params.elem_length(elements);
@@ -122,6 +131,133 @@ impl<K: ElementKernels> KernelBody<K> {
         Self::build(kernels, params, x0, lengths, false, reference)
     }
 
+    /// A body whose section varies along the span: `stations` from `x = 0`
+    /// to the body's length (every quantity linear in x between stations;
+    /// the principal-axis stiffnesses and mass moments turned by each
+    /// station's twist into body axes, `EI_y = ei_y cos²θ + ei_z sin²θ`,
+    /// `EI_z = ei_y sin²θ + ei_z cos²θ`, `EI_yz = (ei_z − ei_y) sinθ cosθ`,
+    /// and the same for `ρI`), on `elements` equal elements or between
+    /// `nodes`. Each element reads coefficients from the exact moments
+    /// `μ_{P,k} = ∫₀¹ P ξ^k dξ` of its piece of the table
+    /// (`ffr_spec::element_moments`, split at the stations inside it); the
+    /// kernels must be generated for varying sections.
+    pub fn with_sections(
+        kernels: K,
+        stations: &[Station],
+        elements: usize,
+        nodes: Option<&[f64]>,
+        reference: Reference,
+    ) -> Result<Self> {
+        let bad = |m: String| Error::InvalidInput(m);
+        if stations.len() < 2 {
+            return Err(bad(format!(
+                "a section table needs at least two stations, found {}",
+                stations.len()
+            )));
+        }
+        let length = stations[stations.len() - 1].x;
+        if stations[0].x != 0.0 || !(length.is_finite() && length > 0.0) {
+            return Err(bad(format!(
+                "a section table runs from x = 0 to the body's length, found x = {} to {length}",
+                stations[0].x
+            )));
+        }
+        let wanted = kernels.section_moments().to_vec();
+        if wanted.is_empty() {
+            return Err(bad(format!(
+                "the kernels of `{}` were generated for a uniform section: a section table needs kernels for varying sections",
+                kernels.info().shape
+            )));
+        }
+        let (x0, lengths) = match nodes {
+            None => {
+                if !(1..=ffr_spec::MAX_ELEMENTS).contains(&elements) {
+                    return Err(bad(format!(
+                        "a body has 1 to {} elements, found {elements}",
+                        ffr_spec::MAX_ELEMENTS
+                    )));
+                }
+                let l = length / elements as f64;
+                (
+                    (0..elements).map(|e| e as f64 * l).collect::<Vec<_>>(),
+                    vec![l; elements],
+                )
+            }
+            Some(nodes) => {
+                check_nodes(nodes, length)?;
+                (
+                    nodes[..nodes.len() - 1].to_vec(),
+                    nodes.windows(2).map(|w| w[1] - w[0]).collect(),
+                )
+            }
+        };
+        // Each property at the stations, in body axes.
+        let property = |p: SectionProp| -> Vec<(f64, f64)> {
+            stations
+                .iter()
+                .map(|s| {
+                    let (sin, cos) = s.twist.sin_cos();
+                    let (c2, s2, sc) = (cos * cos, sin * sin, sin * cos);
+                    let v = match p {
+                        SectionProp::RhoA => s.mass,
+                        SectionProp::RhoIy => s.rho_iy * c2 + s.rho_iz * s2,
+                        SectionProp::RhoIz => s.rho_iy * s2 + s.rho_iz * c2,
+                        SectionProp::RhoIyz => (s.rho_iz - s.rho_iy) * sc,
+                        SectionProp::RhoJ => s.rho_j,
+                        SectionProp::Ea => s.ea,
+                        SectionProp::EiY => s.ei_y * c2 + s.ei_z * s2,
+                        SectionProp::EiZ => s.ei_y * s2 + s.ei_z * c2,
+                        SectionProp::EiYz => (s.ei_z - s.ei_y) * sc,
+                        SectionProp::Gj => s.gj,
+                    };
+                    (s.x, v)
+                })
+                .collect()
+        };
+        let mut props: Vec<(SectionProp, usize)> = Vec::new();
+        for &(p, k) in &wanted {
+            match props.iter_mut().find(|(q, _)| *q == p) {
+                Some((_, n)) => *n = (*n).max(k as usize + 1),
+                None => props.push((p, k as usize + 1)),
+            }
+        }
+        // Each property read: its stations `(x, value)` and how many moments.
+        type Table = (SectionProp, Vec<(f64, f64)>, usize);
+        let tables: Vec<Table> = props.iter().map(|&(p, n)| (p, property(p), n)).collect();
+        let nc = kernels.info().n_coefficients;
+        let elements = lengths.len();
+        let mut coef = vec![0.0; nc * elements];
+        let mut mu = vec![0.0; wanted.len()];
+        let mut moments: Vec<Vec<f64>> = tables.iter().map(|(_, _, n)| vec![0.0; *n]).collect();
+        for e in 0..elements {
+            for ((_, st, _), out) in tables.iter().zip(moments.iter_mut()) {
+                ffr_spec::element_moments(st, x0[e], lengths[e], out)
+                    .map_err(|m| bad(m.to_string()))?;
+            }
+            for (slot, &(p, k)) in mu.iter_mut().zip(&wanted) {
+                let t = tables.iter().position(|(q, _, _)| *q == p).expect("listed");
+                *slot = moments[t][k as usize];
+            }
+            kernels.section_coefficients(&mu, lengths[e], &mut coef[e * nc..(e + 1) * nc]);
+        }
+        let mut params = [0.0; 8];
+        params[0] = length;
+        Self::assemble(
+            kernels,
+            Params::from_array(params),
+            x0,
+            lengths,
+            coef,
+            nc,
+            reference,
+            if nodes.is_some() {
+                "with varying sections, graded"
+            } else {
+                "with varying sections"
+            },
+        )
+    }
+
     fn build(
         kernels: K,
         params: Params,
@@ -135,6 +271,41 @@ impl<K: ElementKernels> KernelBody<K> {
         params
             .validate_only(&info.params_used)
             .map_err(|e| Error::InvalidInput(e.to_string()))?;
+        // One coefficient array when every element has the same length,
+        // else one per element.
+        let nc = info.n_coefficients;
+        let blocks = if equal { 1 } else { elements };
+        let mut coef = vec![0.0; nc * blocks];
+        for (b, c) in coef.chunks_mut(nc.max(1)).enumerate().take(blocks) {
+            kernels.coefficients(&params, lengths[b], c);
+        }
+        Self::assemble(
+            kernels,
+            params,
+            x0,
+            lengths,
+            coef,
+            if equal { 0 } else { nc },
+            reference,
+            if equal { "" } else { "graded" },
+        )
+    }
+
+    /// The body from its elements' coefficient arrays (`stride` 0: one
+    /// array for every element).
+    #[allow(clippy::too_many_arguments)]
+    fn assemble(
+        kernels: K,
+        params: Params,
+        x0: Vec<f64>,
+        lengths: Vec<f64>,
+        coef: Vec<f64>,
+        stride: usize,
+        reference: Reference,
+        mesh_note: &str,
+    ) -> Result<Self> {
+        let elements = lengths.len();
+        let info = kernels.info().clone();
         let mesh = Mesh::new(&info.coordinates, info.dim, elements, reference)
             .map_err(|e| Error::InvalidInput(e.to_string()))?;
         let ne = info.n_local;
@@ -145,24 +316,18 @@ impl<K: ElementKernels> KernelBody<K> {
                     .collect::<Vec<_>>()
             })
             .collect();
-        // One coefficient array when every element has the same length,
-        // else one per element.
         let nc = info.n_coefficients;
-        let blocks = if equal { 1 } else { elements };
-        let mut coef = vec![0.0; nc * blocks];
-        for (b, c) in coef.chunks_mut(nc.max(1)).enumerate().take(blocks) {
-            kernels.coefficients(&params, lengths[b], c);
-        }
         if let Some(i) = coef.iter().position(|c| !c.is_finite()) {
             return Err(Error::InvalidInput(format!(
                 "the parameters ({}) give the element coefficient c[{}] = {} for {elements} × `{}`: a product of parameters is beyond the range of f64",
                 params.describe(&info.params_used), i % nc.max(1), coef[i], info.shape
             )));
         }
-        let mesh_text = if equal {
-            format!("{elements}")
-        } else {
-            format!("{elements} graded")
+        // "8", "8 graded"; a note naming the section goes after the shape.
+        let (mesh_text, section_text) = match mesh_note {
+            "" => (format!("{elements}"), ""),
+            "graded" => (format!("{elements} graded"), ""),
+            note => (format!("{elements}"), note),
         };
         let layout = BodyLayout {
             dim: info.dim,
@@ -174,9 +339,11 @@ impl<K: ElementKernels> KernelBody<K> {
             labels: mesh.dofs().iter().map(|d| d.to_string()).collect(),
             length: Some(params.length),
             description: format!(
-                "{} × `{}` ({} formalism, stiffening {}, {} reference, L = {} m)",
+                "{} × `{}`{}{} ({} formalism, stiffening {}, {} reference, L = {} m)",
                 mesh_text,
                 info.shape,
+                if section_text.is_empty() { "" } else { " " },
+                section_text,
                 info.options.formalism,
                 info.options.stiffening,
                 reference,
@@ -188,7 +355,7 @@ impl<K: ElementKernels> KernelBody<K> {
             layout,
             params,
             coef,
-            coef_stride: if equal { 0 } else { nc },
+            coef_stride: stride,
             elements,
             ne,
             maps,

@@ -164,6 +164,49 @@ pub struct FlexSpec {
     pub params_at: Location,
     /// A modal reduction, and where `modes` is written.
     pub modal: Option<(ModalSettings, Location)>,
+    /// Section properties varying along the span (`sections = …`), instead
+    /// of the uniform `params` (whose `length` is then the last station's x).
+    pub sections: Option<SectionTable>,
+}
+
+/// A table of sections along a beam's span: every quantity varies linearly
+/// in x between stations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SectionTable {
+    /// The stations, x strictly increasing from 0 to the body's length.
+    pub stations: Vec<Station>,
+    /// Where the table is (a CSV file's path, or the scene's `sections`).
+    pub at: Location,
+}
+
+/// One station of a [`SectionTable`], in the resultant form (SI units).
+/// The material form `rho, area, iy, iz, e, g, j` is read into it as
+/// `mass = ρA`, `ea = EA`, `ei_y = E I_y`, `ei_z = E I_z`, `gj = G J`,
+/// `rho_iy = ρ I_y`, `rho_iz = ρ I_z`, `rho_j = ρ (I_y + I_z)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Station {
+    /// m from the body's root.
+    pub x: f64,
+    /// Mass per length ρA (kg/m).
+    pub mass: f64,
+    /// Axial stiffness EA (N).
+    pub ea: f64,
+    /// Bending stiffness in the x–z plane (`w`), E I_y = ∫E z² dA (N m²),
+    /// about the section's principal axes.
+    pub ei_y: f64,
+    /// Bending stiffness in the x–y plane (`v`), E I_z = ∫E y² dA (N m²).
+    pub ei_z: f64,
+    /// Torsional stiffness GJ (N m²).
+    pub gj: f64,
+    /// Section mass moment ρI_y = ∫ρ z² dA (kg m), principal axes.
+    pub rho_iy: f64,
+    /// Section mass moment ρI_z = ∫ρ y² dA (kg m).
+    pub rho_iz: f64,
+    /// Polar mass moment per length (kg m); `rho_iy + rho_iz` unless given.
+    pub rho_j: f64,
+    /// Angle of the principal axes about +x (rad), which couples the
+    /// bending planes through `EI_yz` and `ρI_yz`.
+    pub twist: f64,
 }
 
 /// How a flexible body is reduced.

@@ -30,21 +30,28 @@ pub struct GeneralKernels;
 impl KernelProvider for GeneralKernels {
     fn kernels(&self, spec: &FlexSpec) -> crate::Result<(Box<dyn ElementKernels>, &'static str)> {
         #[cfg(feature = "builtin-kernels")]
-        if let Some(k) = crate::kernels::builtin(
-            &spec.shape,
-            3,
-            true,
-            spec.options.formalism,
-            spec.options.stiffening,
-        ) {
-            return Ok((Box::new(Kernels::Compiled(k)), "compiled, general"));
+        if spec.sections.is_none() {
+            if let Some(k) = crate::kernels::builtin(
+                &spec.shape,
+                3,
+                true,
+                spec.options.formalism,
+                spec.options.stiffening,
+            ) {
+                return Ok((Box::new(Kernels::Compiled(k)), "compiled, general"));
+            }
         }
         let shape = crate::codegen::Shape::resolve(&spec.shape, None)?;
         let options = crate::runtime::spec::KernelOptions::new()
             .formalism(spec.options.formalism)
             .stiffening(spec.options.stiffening)
             .scene(crate::runtime::spec::SceneDim::Spatial);
-        let model = crate::codegen::KernelModel::new(shape, options);
+        let sections = if spec.sections.is_some() {
+            crate::runtime::spec::SectionModel::Varying
+        } else {
+            crate::runtime::spec::SectionModel::Uniform
+        };
+        let model = crate::codegen::KernelModel::new(shape, options).with_sections(sections);
         let k = Kernels::Tape(Box::new(crate::runtime::tape::TapeKernels::new(&model)?));
         Ok((Box::new(k), "tape, general"))
     }
@@ -63,6 +70,19 @@ impl KernelProvider for DefaultKernels {
             params: spec.params,
             force_tape: false,
         };
+        if spec.sections.is_some() {
+            // Varying sections: the generator's program on a tape (no
+            // built-in compiled kernels for them).
+            let shape = crate::codegen::Shape::resolve(&spec.shape, None)?;
+            let options = crate::runtime::spec::KernelOptions {
+                scene: Some(spec.options.scene_or(shape.dimension)),
+                ..spec.options
+            };
+            let model = crate::codegen::KernelModel::new(shape, options)
+                .with_sections(crate::runtime::spec::SectionModel::Varying);
+            let k = Kernels::Tape(Box::new(crate::runtime::tape::TapeKernels::new(&model)?));
+            return Ok((Box::new(k), "tape, varying sections"));
+        }
         let k: Kernels = beam.kernels()?;
         let path = k.path();
         Ok((Box::new(k), path))

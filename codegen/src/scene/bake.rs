@@ -191,7 +191,7 @@ impl Bake for ffr_spec::scene::FlexSpec {
             unit(s, "FrameModel", &o.frame),
         );
         format!(
-            "{s}::scene::FlexSpec {{ name: {}, shape: {}, shape_name: {}, shape_at: {}, elements: {}, nodes: {}, reference: {}, options: {options}, params: {s}::Params::from_array({}), given: {}, params_at: {}, modal: {} }}",
+            "{s}::scene::FlexSpec {{ name: {}, shape: {}, shape_name: {}, shape_at: {}, elements: {}, nodes: {}, reference: {}, options: {options}, params: {s}::Params::from_array({}), given: {}, params_at: {}, modal: {}, sections: {} }}",
             self.name.bake(s),
             self.shape.bake(s),
             self.shape_name.bake(s),
@@ -202,7 +202,8 @@ impl Bake for ffr_spec::scene::FlexSpec {
             self.params.to_array().bake(s),
             self.given.bake(s),
             self.params_at.bake(s),
-            self.modal.bake(s)
+            self.modal.bake(s),
+            self.sections.bake(s)
         )
     }
 }
@@ -440,4 +441,32 @@ pub fn scene_expr(scene: &SceneSpec, spec_path: &str, origin: &str) -> String {
         scene.forces.bake(s),
         scene.outputs.bake(s)
     )
+}
+
+impl Bake for ffr_spec::scene::Station {
+    fn bake(&self, s: &Ctx) -> String {
+        format!(
+            "{s}::scene::Station {{ x: {}, mass: {}, ea: {}, ei_y: {}, ei_z: {}, gj: {}, rho_iy: {}, rho_iz: {}, rho_j: {}, twist: {} }}",
+            self.x.bake(s),
+            self.mass.bake(s),
+            self.ea.bake(s),
+            self.ei_y.bake(s),
+            self.ei_z.bake(s),
+            self.gj.bake(s),
+            self.rho_iy.bake(s),
+            self.rho_iz.bake(s),
+            self.rho_j.bake(s),
+            self.twist.bake(s)
+        )
+    }
+}
+
+impl Bake for ffr_spec::scene::SectionTable {
+    fn bake(&self, s: &Ctx) -> String {
+        format!(
+            "{s}::scene::SectionTable {{ stations: {}, at: {} }}",
+            self.stations.bake(s),
+            self.at.bake(s)
+        )
+    }
 }

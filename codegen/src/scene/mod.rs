@@ -59,6 +59,9 @@ pub struct RawBody {
     /// A graded mesh: the nodes' x (m), from 0 to the length (instead of
     /// `elements`).
     pub nodes: Option<Spanned<Vec<f64>>>,
+    /// Sections varying along the span: a CSV file (relative to the scene
+    /// file) or an array of tables (instead of `params`).
+    pub sections: Option<Spanned<toml::Value>>,
     pub reference: Option<Spanned<String>>,
     pub stiffening: Option<Spanned<toml::Value>>,
     pub formalism: Option<Spanned<String>>,

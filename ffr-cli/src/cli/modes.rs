@@ -95,27 +95,31 @@ pub fn scene_body(
     Ok((scene, id, f))
 }
 
-/// The body of `--scene FILE --body NAME`: equal elements through the exact
-/// invariants (as the flags describe the same body), a graded mesh through
-/// the runtime's assembly of its elements.
+/// The body of `--scene FILE --body NAME`: equal elements of one section
+/// through the exact invariants (as the flags describe the same body), a
+/// graded mesh or a section table through the runtime's assembly of its
+/// elements.
 fn reducible_from_scene(path: &Path, name: &str) -> Result<ReducibleBody, Box<dyn Error>> {
     let (scene, id, f) = scene_body(path, name)?;
-    Ok(match &f.nodes {
-        None => ReducibleBody::from_parts(
+    Ok(if f.nodes.is_none() && f.sections.is_none() {
+        ReducibleBody::from_parts(
             &f.shape,
             f.elements,
             f.reference,
             f.options.formalism,
             f.params,
-        )?,
-        Some(nodes) => ReducibleBody::from_runtime(
+        )?
+    } else {
+        ReducibleBody::from_runtime(
             &f.shape,
-            nodes,
+            f.elements,
+            f.nodes.as_deref(),
+            f.sections.is_some(),
             f.reference,
             f.options.formalism,
             f.params,
             &scene.system.body(id).invariants(),
-        )?,
+        )?
     })
 }
 

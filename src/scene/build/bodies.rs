@@ -114,28 +114,53 @@ fn flexible(
             ),
         ));
     }
-    // A parameter the body uses must be given (a missing one would be
-    // reported as zero).
-    let used = &kernels.info().params_used;
-    if let Some(missing) = Param::FIELDS
-        .iter()
-        .enumerate()
-        .find(|(i, p)| !f.given[*i] && used.contains(p))
-    {
-        let names: Vec<&str> = used.iter().map(|p| p.field()).collect();
-        return Err(err(
-            &f.params_at,
-            format!(
-                "body `{name}`: `params` needs `{}`: shape `{}` in this scene uses {}",
-                missing.1.field(),
-                q(&f.shape_name),
-                names.join(", ")
-            ),
-        ));
-    }
-    let kb = match &f.nodes {
-        None => KernelBody::new(kernels, f.params, f.elements, f.reference),
-        Some(nodes) => KernelBody::with_nodes(kernels, f.params, nodes, f.reference),
+    let kb = match &f.sections {
+        None => {
+            // A parameter the body uses must be given (a missing one would
+            // be reported as zero).
+            let used = &kernels.info().params_used;
+            if let Some(missing) = Param::FIELDS
+                .iter()
+                .enumerate()
+                .find(|(i, p)| !f.given[*i] && used.contains(p))
+            {
+                let names: Vec<&str> = used.iter().map(|p| p.field()).collect();
+                return Err(err(
+                    &f.params_at,
+                    format!(
+                        "body `{name}`: `params` needs `{}`: shape `{}` in this scene uses {}",
+                        missing.1.field(),
+                        q(&f.shape_name),
+                        names.join(", ")
+                    ),
+                ));
+            }
+            match &f.nodes {
+                None => KernelBody::new(kernels, f.params, f.elements, f.reference),
+                Some(nodes) => KernelBody::with_nodes(kernels, f.params, nodes, f.reference),
+            }
+        }
+        Some(table) => {
+            if kernels.info().dim == 2 {
+                if let Some((i, s)) = table.stations.iter().enumerate().find(|(_, s)| s.twist != 0.0) {
+                    return Err(err(
+                        &table.at,
+                        format!(
+                            "body `{name}`: station {i} has twist {:?}: a planar shape (`{}`) bends in x–y only, so its sections cannot be twisted",
+                            s.twist,
+                            q(&f.shape_name)
+                        ),
+                    ));
+                }
+            }
+            KernelBody::with_sections(
+                kernels,
+                &table.stations,
+                f.elements,
+                f.nodes.as_deref(),
+                f.reference,
+            )
+        }
     }
     .map_err(|e| err(&b.at, format!("body `{name}`: {e}")))?;
     let boxed: Box<dyn Body> = match &f.modal {
@@ -167,9 +192,9 @@ fn reduce(
     settings: &crate::runtime::spec::scene::ModalSettings,
     kb: KernelBody<Box<dyn crate::runtime::ElementKernels>>,
 ) -> crate::Result<Box<dyn Body>> {
-    if f.nodes.is_some() {
+    if f.nodes.is_some() || f.sections.is_some() {
         return Err(crate::Error::Invalid(
-            "a modal body needs equal elements; a graded mesh is not reduced yet".into(),
+            "a modal body needs equal elements of a uniform section; a graded mesh or a section table is not reduced yet".into(),
         ));
     }
     let mb = crate::modal::ReducibleBody::from_parts(

@@ -1,7 +1,7 @@
 //! `[bodies.NAME]`: rigid and flexible bodies, their poses, damping,
 //! initial velocities and elastic states.
 
-use super::{fin_f64, pos_f64, vec_n, Ctx};
+use super::{fin_f64, pos_f64, sections, vec_n, Ctx};
 use crate::error::Error;
 use crate::scene::quoted as q;
 use crate::scene::{FlexBodyModel, RawBody, RawLabelled, RawScene};
@@ -80,11 +80,31 @@ pub(super) fn bodies(
                 .find(|m| &m.name == name_s)
                 .expect("every flexible body has a model");
             let modal = modal_settings(c, name_s, rb, n)?;
-            let (params, given, params_span) = parse_params(c, name_s, rb, span.clone())?;
-            if let (Some(_), Some(m)) = (&nodes, &rb.modes) {
+            let (params, given, params_span, sections) = match &rb.sections {
+                None => {
+                    let (p, g, s) = parse_params(c, name_s, rb, span.clone())?;
+                    (p, g, s, None)
+                }
+                Some(v) => {
+                    if let Some(p) = &rb.params {
+                        return Err(c.err(
+                            p.span(),
+                            format!("body `{name_s}` has `params` and `sections`: give one (`params`: a uniform beam; `sections`: properties along the span, the length is the last station's x)"),
+                        ));
+                    }
+                    let table = sections::sections(c, name_s, v, base)?;
+                    let length = table.stations.last().expect("two stations or more").x;
+                    let mut p = [0.0; 8];
+                    p[0] = length;
+                    let mut given = [false; 8];
+                    given[0] = true;
+                    (Params::from_array(p), given, v.span(), Some(table))
+                }
+            };
+            if let (true, Some(m)) = (nodes.is_some() || rb.sections.is_some(), &rb.modes) {
                 return Err(c.err(
                     m.span(),
-                    format!("body `{name_s}`: a modal body needs equal elements (`elements = N`); a graded mesh (`nodes`) is not reduced yet"),
+                    format!("body `{name_s}`: a modal body needs equal elements of a uniform section (`elements = N`, `params`); a graded mesh (`nodes`) or a section table (`sections`) is not reduced yet"),
                 ));
             }
             if let Some((xs, at)) = &nodes {
@@ -119,6 +139,7 @@ pub(super) fn bodies(
                 given,
                 params_at: c.loc(params_span),
                 modal: modal.map(|(s, span)| (s, c.loc(span))),
+                sections,
             })
         };
         let rigid = rigid_body(rb);

@@ -19,6 +19,7 @@ mod joints;
 mod markers;
 mod outputs;
 mod profiles;
+mod sections;
 
 use ffr_spec::scene::MAX_RECORDED_VALUES;
 
