@@ -11,9 +11,10 @@
 //!
 //! The model (`docs/theory.md`, "Varying sections"): the mass distribution
 //! has `∫ρ dA = ρA`, `∫ρ y² dA = ρI_z`, `∫ρ z² dA = ρI_y`, `∫ρ yz dA = ρI_yz`,
-//! except in a product of two transverse (`y`, `z`) components, where the
-//! section turns about x as a whole and its second moments are the torsional
-//! ones `M + ½ (ρJ − tr M) I` (so their trace is `ρJ`); the stiffness
+//! except in a product of two transverse (`y`, `z`) components in `S̄_kl`
+//! (of `S`) and `Ī_kl` (of `ū₀` and `S`), where the section turns about x
+//! (torsion) and its second moments are the torsional ones
+//! `M + ½ (ρJ − tr M) I` (so their trace is `ρJ`); `Θ` uses `M`. The stiffness
 //! distribution has `EA`, `EI_z = ∫E y²`, `EI_y = ∫E z²`, `EI_yz = ∫E yz`;
 //! torsion `∫GJ φ'² dx`.
 
@@ -176,10 +177,13 @@ pub fn element_invariants(
                 }
                 for k in 0..3 {
                     for kk in 0..3 {
+                        if !transverse {
+                            // Θ: the undeformed body's inertia, bending moments.
+                            r.theta[(k, kk)] += w * u0[k] * u0[kk];
+                        }
                         if (k > 0 && kk > 0) != transverse {
                             continue;
                         }
-                        r.theta[(k, kk)] += w * u0[k] * u0[kk];
                         let sk = sm.row(k).transpose();
                         let sl = sm.row(kk);
                         r.s_kl[k][kk] += w * &sk * sl;
