@@ -377,3 +377,161 @@ fn tapered_twisted_beam3_element_matches_quadrature() {
         );
     }
 }
+
+/// Element coordinates with slopes of order `a` (translations `a·l`).
+fn element_state(set: &KernelSet, l: f64, seed: u64, a: f64) -> Vec<f64> {
+    pseudo_random(set.n(), seed, a)
+        .into_iter()
+        .zip(set.model().shape.element_coordinates())
+        .map(|(x, ec)| if ec.kind.is_translation() { x * l } else { x })
+        .collect()
+}
+
+/// One run of `kind` with `q` (frame at rest, no velocities or accelerations).
+fn run_at_rest(
+    set: &KernelSet,
+    kind: KernelKind,
+    c: &[f64],
+    q: &[f64],
+) -> BTreeMap<(OutArr, usize), f64> {
+    let zeros = vec![0.0; q.len()];
+    let frame = [0.0; 9];
+    let mut out = BTreeMap::new();
+    Run::new(set.program(kind).unwrap()).run(
+        &Inputs {
+            coef: c,
+            x0: 0.0,
+            frame: &frame,
+            q,
+            qd: &zeros,
+            qdd: &zeros,
+            ..Inputs::default()
+        },
+        |arr, i, v| {
+            out.insert((arr, i), v);
+        },
+    );
+    out
+}
+
+/// The element's moments from the table, then its coefficients.
+fn element_coefficients(set: &KernelSet, st: &[rf::varying::Station], x0: f64, l: f64) -> Vec<f64> {
+    let mu: Vec<f64> = set
+        .section_moments
+        .iter()
+        .map(|&(prop, k)| {
+            let table: Vec<(f64, f64)> = st.iter().map(|s| (s.x, station_value(s, prop))).collect();
+            let mut m = vec![0.0; k as usize + 1];
+            element_moments(&table, x0, l, &mut m).unwrap();
+            m[k as usize]
+        })
+        .collect();
+    section_coefficients(set, &mu, l)
+}
+
+#[test]
+fn stiffening_energy_of_a_twisted_element_matches_quadrature() {
+    let st = stations();
+    let untwisted: Vec<rf::varying::Station> = st
+        .iter()
+        .map(|s| rf::varying::Station { ei_yz: 0.0, ..*s })
+        .collect();
+    let (x0, l) = (0.5, 0.7);
+    for (model, rmodel) in [
+        (Stiffening::SecondOrder, rf::StiffeningModel::SecondOrder),
+        (Stiffening::FourthOrder, rf::StiffeningModel::FourthOrder),
+    ] {
+        let (_, set) = sets("beam3", KernelOptions::new().stiffening(model));
+        let n = set.n();
+        let c = element_coefficients(&set, &st, x0, l);
+        let (off, _) = invariant_layout(n);
+        let k = &generated_invariants(&set, &st, x0, l)[off[7]..off[7] + n * n];
+        for seed in 1..4 {
+            let q = element_state(&set, l, seed, 0.1);
+            let e = run_at_rest(&set, KernelKind::Energy, &c, &q)[&(OutArr::Energy, 0)];
+            let quad: f64 = (0..n)
+                .flat_map(|a| (0..n).map(move |b| (a, b)))
+                .map(|(a, b)| 0.5 * q[a] * k[a * n + b] * q[b])
+                .sum();
+            let u = rf::varying::stiffening_energy(rf::Shape::Beam3, &st, x0, l, rmodel, &q);
+            // U_nl is ~1e-2 of the quadratic energy: compare it to round-off
+            // of the total.
+            let err = (e - quad - u).abs();
+            assert!(
+                err <= 1e-13 * e.abs(),
+                "{model} seed {seed}: U_nl generated {:e}, quadrature {u:e} (relative to the energy {:e})",
+                e - quad,
+                err / e.abs()
+            );
+            if model == Stiffening::FourthOrder {
+                // The twist's EI_yz term is in it, and it is not negligible.
+                let u0 =
+                    rf::varying::stiffening_energy(rf::Shape::Beam3, &untwisted, x0, l, rmodel, &q);
+                assert!(
+                    (u - u0).abs() > 1e3 * 1e-13 * e.abs(),
+                    "EI_yz term {:e} vs the tolerance {:e}",
+                    u - u0,
+                    1e-13 * e.abs()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn elastic_forces_and_tangent_are_the_energy_derivatives() {
+    let st = stations();
+    let (x0, l) = (0.5, 0.7);
+    let (_, set) = sets(
+        "beam3",
+        KernelOptions::new().stiffening(Stiffening::FourthOrder),
+    );
+    let n = set.n();
+    let c = element_coefficients(&set, &st, x0, l);
+    let q = element_state(&set, l, 5, 0.1);
+    let energy = |q: &[f64]| run_at_rest(&set, KernelKind::Energy, &c, q)[&(OutArr::Energy, 0)];
+    let force = |q: &[f64]| {
+        let r = run_at_rest(&set, KernelKind::ResidualElastic, &c, q);
+        (0..n)
+            .map(|a| r.get(&(OutArr::Fe, a)).copied().unwrap_or(0.0))
+            .collect::<Vec<f64>>()
+    };
+    let f = force(&q);
+    let tangent = run_at_rest(&set, KernelKind::TangentElastic, &c, &q);
+    let fscale = f.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for a in 0..n {
+        // Central differences, step relative to the coordinate's scale.
+        let h = if set.model().shape.element_coordinates()[a]
+            .kind
+            .is_translation()
+        {
+            1e-6 * l
+        } else {
+            1e-6
+        };
+        let (mut qp, mut qm) = (q.clone(), q.clone());
+        qp[a] += h;
+        qm[a] -= h;
+        let fd = (energy(&qp) - energy(&qm)) / (2.0 * h);
+        assert!(
+            (fd - f[a]).abs() <= 1e-6 * fscale,
+            "f_e[{a}] = {:e}, dE/dq = {fd:e}",
+            f[a]
+        );
+        let (fp, fm) = (force(&qp), force(&qm));
+        for b in 0..n {
+            let kd = (fp[b] - fm[b]) / (2.0 * h);
+            let kt = tangent
+                .get(&(OutArr::Kee, b * n + a))
+                .copied()
+                .unwrap_or(0.0);
+            let kscale = (0..n * n)
+                .map(|i| tangent.get(&(OutArr::Kee, i)).copied().unwrap_or(0.0).abs())
+                .fold(0.0f64, f64::max);
+            assert!(
+                (kd - kt).abs() <= 1e-6 * kscale,
+                "K[{b}][{a}] = {kt:e}, df/dq = {kd:e}"
+            );
+        }
+    }
+}

@@ -253,6 +253,45 @@ pub fn twisted_station(
     }
 }
 
+/// The geometric-stiffening energy `U_nl` of one element `[x₀, x₀ + l]` of
+/// a varying section at element coordinates `q_e`, by quadrature on the
+/// pieces between stations (`docs/theory.md` §14): the element means
+/// `ū' = ∫₀¹ u' dξ`, `s̄ = ∫₀¹ (v'² + w'²) dξ` and `EA_mean = ∫₀¹ EA dξ`;
+/// second order `EA_mean l (½ ū' s̄ + ⅛ s̄²)`; fourth order
+/// `½ EA_mean l (ε̄² − ū'²)`, `ε̄ = ū' + ½ ū'² + ½ s̄`, plus
+/// `½ l ∫₀¹ g [EI_z v''v' + EI_y w''w' + EI_yz (v''w' + v'w'')] dξ`,
+/// `g = v'v'' + w'w''`.
+pub fn stiffening_energy(
+    shape: Shape,
+    stations: &[Station],
+    x0: f64,
+    l: f64,
+    model: super::StiffeningModel,
+    qe: &[f64],
+) -> f64 {
+    let q = DVector::from_column_slice(qe);
+    let (mut ea, mut du, mut s_bar, mut bend) = (0.0, 0.0, 0.0, 0.0);
+    for (xi, w) in element_points(stations, x0, l) {
+        let s = section_at(stations, x0 + xi * l);
+        let (a, b, c) = shape.centerline_grad(l, xi);
+        let (b2, c2) = shape.centerline_curv(l, xi);
+        let (u1, v1, w1) = (a.dot(&q), b.dot(&q), c.dot(&q));
+        let (v2, w2) = (b2.dot(&q), c2.dot(&q));
+        ea += w * s.ea;
+        du += w * u1;
+        s_bar += w * (v1 * v1 + w1 * w1);
+        let g = v1 * v2 + w1 * w2;
+        bend += w * g * (s.ei_z * v2 * v1 + s.ei_y * w2 * w1 + s.ei_yz * (v2 * w1 + v1 * w2));
+    }
+    match model {
+        super::StiffeningModel::SecondOrder => ea * l * (0.5 * du * s_bar + 0.125 * s_bar * s_bar),
+        super::StiffeningModel::FourthOrder => {
+            let eps = du + 0.5 * du * du + 0.5 * s_bar;
+            0.5 * ea * l * (eps * eps - du * du) + 0.5 * l * bend
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
