@@ -535,3 +535,22 @@ fn elastic_forces_and_tangent_are_the_energy_derivatives() {
         }
     }
 }
+
+#[test]
+fn the_twist_convention_of_spec_and_reference_agree() {
+    for twist in [-0.2323, 0.0, 0.35, 1.1] {
+        let s = rf::varying::twisted_station(0.0, 1.0, 2.0, 5.0, 7.0, 1.0, 3.0, 11.0, 1.0, twist);
+        let (ey, ez, eyz) = ffr_spec::twisted_moments(3.0, 11.0, twist);
+        let (ry, rz, ryz) = ffr_spec::twisted_moments(2.0, 5.0, twist);
+        for (a, b) in [
+            (ey, s.ei_y),
+            (ez, s.ei_z),
+            (eyz, s.ei_yz),
+            (ry, s.rho_iy),
+            (rz, s.rho_iz),
+            (ryz, s.rho_iyz),
+        ] {
+            assert!((a - b).abs() < 1e-14 * 11.0, "twist {twist}: {a} vs {b}");
+        }
+    }
+}
