@@ -180,9 +180,11 @@ fn volume(shape: &Shape, f: &Poly) -> Result<Poly, Error> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Density {
     /// `ρ`; `transverse`: the integrand is a product of two transverse
-    /// (`y`, `z`) components (of `S` or `ū₀`), whose second moments are the
-    /// torsional ones `½(ρJ ∓ (ρI_y − ρI_z)) + ρI_{z,y}` (see
-    /// [`varying_section_moment`]).
+    /// (`y`, `z`) components, of `S` (`S̄_kl`) or of `ū₀` and `S` (`Ī_kl`),
+    /// where the section's second moments come from its rotation about x
+    /// (torsion) and are the torsional ones (see [`varying_section_moment`]).
+    /// `Θ_kl`, the undeformed body's own inertia, and every product with an
+    /// axial component use `ρI_y`, `ρI_z`.
     Mass { transverse: bool },
     /// `E`.
     Elastic,
@@ -198,10 +200,10 @@ fn mu(prop: SectionProp, k: u8) -> Poly {
 ///
 /// - mass: `(0,0)` `μ_{ρA,k}`; `(1,1)` `μ_{ρI_yz,k}`; `(2,0)` `μ_{ρI_z,k}`
 ///   and `(0,2)` `μ_{ρI_y,k}`, except in a product of two transverse
-///   components, where the section turns about x as a whole (torsion, and
-///   the rigid rotation in `Θ`): there `(2,0)` is `½ (μ_{ρJ} − μ_{ρI_y} +
-///   μ_{ρI_z})` and `(0,2)` `½ (μ_{ρJ} + μ_{ρI_y} − μ_{ρI_z})`, which sum
-///   to `μ_{ρJ}` and equal `μ_{ρI_z}`, `μ_{ρI_y}` when `ρJ = ρI_y + ρI_z`;
+///   components of `S̄_kl` or `Ī_kl`, where the section turns about x
+///   (torsion): there `(2,0)` is `½ (μ_{ρJ} − μ_{ρI_y} + μ_{ρI_z})` and
+///   `(0,2)` `½ (μ_{ρJ} + μ_{ρI_y} − μ_{ρI_z})`, which sum to `μ_{ρJ}` and
+///   equal `μ_{ρI_z}`, `μ_{ρI_y}` when `ρJ = ρI_y + ρI_z`;
 /// - stiffness: `(0,0)` `μ_{EA,k}`, `(2,0)` `μ_{EI_z,k}`, `(0,2)`
 ///   `μ_{EI_y,k}`, `(1,1)` `μ_{EI_yz,k}`.
 fn varying_section_moment(density: Density, a: i32, b: i32, k: u8) -> Option<Option<Poly>> {
@@ -428,7 +430,7 @@ fn consistent_element(shape: &Shape, sections: SectionModel) -> Result<ExactInva
     for k in 0..3 {
         inv.s_t0[k] = rho(&u0[k], false)?;
         for kk in 0..3 {
-            inv.theta[k][kk] = rho(&u0[k].mul(&u0[kk]), k > 0 && kk > 0)?;
+            inv.theta[k][kk] = rho(&u0[k].mul(&u0[kk]), false)?;
         }
         for a in 0..n {
             *inv.s_bar.get_mut(k, a) = rho(&rows[k][a], false)?;

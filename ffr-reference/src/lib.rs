@@ -680,6 +680,7 @@ impl RefBody {
 }
 
 mod stiffening;
+pub mod varying;
 pub use stiffening::{StiffeningEnergy, StiffeningModel, N_BEND, N_MEAN};
 
 #[cfg(test)]

@@ -277,3 +277,64 @@ impl ElementKernels for TapeKernels {
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spec::{KernelOptions, SectionModel, Stiffening};
+    use ffr_codegen::Shape;
+
+    /// Through the trait: a varying set's `section_coefficients` with the
+    /// moments of constant properties give the coefficients under which its
+    /// element invariants and energy are the uniform set's; a uniform set
+    /// reports no moments.
+    #[test]
+    fn section_coefficients_through_the_trait() {
+        let model = KernelModel::new(
+            Shape::resolve("beam3", None).unwrap(),
+            KernelOptions::new().stiffening(Stiffening::FourthOrder),
+        );
+        let uniform = TapeKernels::new(&model).unwrap();
+        let varying = TapeKernels::new(&model.with_sections(SectionModel::Varying)).unwrap();
+        assert!(uniform.section_moments().is_empty());
+        assert!(!varying.section_moments().is_empty());
+        let p = Params::from_array([2.0, 7850.0, 2e-4, 1.7e-9, 6.6e-9, 2.1e11, 8.1e10, 4e-9]);
+        let l = 0.5;
+        let mu: Vec<f64> = varying
+            .section_moments()
+            .iter()
+            .map(|&(prop, k)| prop.uniform_value(&p) / (k as f64 + 1.0))
+            .collect();
+        let mut cu = vec![0.0; uniform.info().n_coefficients];
+        let mut cv = vec![0.0; varying.info().n_coefficients];
+        uniform.coefficients(&p, l, &mut cu);
+        varying.section_coefficients(&mu, l, &mut cv);
+        let n = uniform.info().n_local;
+        let (off, len) = crate::spec::invariant_layout(n);
+        let mut scratch = vec![0.0; uniform.info().scratch.max(varying.info().scratch)];
+        let (mut a, mut b) = (vec![0.0; len], vec![0.0; len]);
+        uniform.element_invariants(&cu, 1.0, &mut a, &mut scratch);
+        varying.element_invariants(&cv, 1.0, &mut b, &mut scratch);
+        // Round-off relative to each block's largest entry (`ρJ − ρI_y − ρI_z`
+        // of the torsional moments leaves ~1e-16 ρI where the uniform set
+        // has an exact 0).
+        for (bi, &start) in off.iter().enumerate() {
+            let end = off.get(bi + 1).copied().unwrap_or(len);
+            let scale = a[start..end].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            for i in start..end {
+                assert!(
+                    (a[i] - b[i]).abs() <= 1e-13 * scale,
+                    "{i}: {} vs {}",
+                    a[i],
+                    b[i]
+                );
+            }
+        }
+        let q: Vec<f64> = (0..n).map(|i| 1e-3 * (i as f64 - 5.5)).collect();
+        let (eu, ev) = (
+            uniform.energy(&cu, &q, &mut scratch),
+            varying.energy(&cv, &q, &mut scratch),
+        );
+        assert!((eu - ev).abs() <= 1e-13 * eu.abs(), "{eu} vs {ev}");
+    }
+}

@@ -3,8 +3,10 @@
 //! is fixed to a body ([`Reference`]), how a body of `N` equal elements numbers
 //! its elastic coordinates ([`Mesh`]), the body parameters ([`Params`]) and the
 //! model options ([`Formalism`], [`Stiffening`], [`SceneDim`], [`FrameModel`],
-//! together [`KernelOptions`]), and a scene as resolved data ([`scene`]:
-//! what a scene file says, checked, before anything is built from it).
+//! together [`KernelOptions`]), sections that vary along the span
+//! ([`SectionProp`], [`SectionModel`], the exact element moments
+//! [`element_moments`]), and a scene as resolved data ([`scene`]: what a
+//! scene file says, checked, before anything is built from it).
 //!
 //! It has no dependencies (feature `clap`: `clap::ValueEnum` for the
 //! options), so that both sides use one definition of each
@@ -27,7 +29,9 @@ pub use location::Location;
 pub use mesh::{Dof, ElementCoordinate, Kind, Mesh, MeshError, Reference, MAX_ELEMENTS};
 pub use options::{Formalism, Stiffening};
 pub use params::{Param, ParamError, Params};
-pub use section::{element_moments, SectionError, SectionModel, SectionProp};
+pub use section::{
+    element_moments, fill_moments, twisted_moments, SectionError, SectionModel, SectionProp,
+};
 
 /// Offsets of the flat array of one element's invariants for `n` element
 /// coordinates, and its length: `[m, S_t0 (3), S̄ (3 n), S̄_kl (9 n²; k, l,

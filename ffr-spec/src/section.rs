@@ -205,6 +205,61 @@ pub fn element_moments(
     Ok(())
 }
 
+/// The element moments a kernel set reads (`list`, as its
+/// `section_moments()` gives them) for the element `[x₀, x₀ + l]`, each
+/// property `P` piecewise linear through `stations(P)` ([`element_moments`]);
+/// `mu[i]` is the moment of `list[i]`. No allocation.
+pub fn fill_moments<'t>(
+    list: &[(SectionProp, u8)],
+    stations: impl Fn(SectionProp) -> &'t [(f64, f64)],
+    x0: f64,
+    l: f64,
+    mu: &mut [f64],
+) -> Result<(), SectionError> {
+    if mu.len() != list.len() {
+        return Err(SectionError(format!(
+            "{} moments requested into an array of {}",
+            list.len(),
+            mu.len()
+        )));
+    }
+    let mut buf = [0.0; 256];
+    let mut current: Option<SectionProp> = None;
+    for (i, &(prop, k)) in list.iter().enumerate() {
+        if current != Some(prop) {
+            // All moments of `prop` up to the highest `k` the list asks for.
+            let kmax = list
+                .iter()
+                .filter(|(p, _)| *p == prop)
+                .map(|&(_, k)| k as usize)
+                .max()
+                .unwrap_or(0);
+            element_moments(stations(prop), x0, l, &mut buf[..=kmax])
+                .map_err(|e| SectionError(format!("{prop}: {e}")))?;
+            current = Some(prop);
+        }
+        mu[i] = buf[k as usize];
+    }
+    Ok(())
+}
+
+/// Second moments of a section whose principal axes are turned by `twist`
+/// (rad) about +x, in body axes: the principal axes are
+/// `y' = cos θ y + sin θ z` (moment `i_z' = ∫ y'²`) and
+/// `z' = −sin θ y + cos θ z` (`i_y' = ∫ z'²`), the convention of
+/// `scenes/data/README.md` (`twist = −StrcTwst`). Returns
+/// `(∫z², ∫y², ∫yz) = (i_y' cos²θ + i_z' sin²θ, i_y' sin²θ + i_z' cos²θ,
+/// (i_z' − i_y') sin θ cos θ)`: for stiffnesses `(EI_y, EI_z, EI_yz)`, for
+/// mass moments `(ρI_y, ρI_z, ρI_yz)`.
+pub fn twisted_moments(i_y: f64, i_z: f64, twist: f64) -> (f64, f64, f64) {
+    let (s, c) = twist.sin_cos();
+    (
+        i_y * c * c + i_z * s * s,
+        i_y * s * s + i_z * c * c,
+        (i_z - i_y) * s * c,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -293,5 +348,43 @@ mod tests {
         let mut names: Vec<_> = SectionProp::ALL.iter().map(|p| p.name()).collect();
         names.dedup();
         assert_eq!(names.len(), 10);
+    }
+
+    #[test]
+    fn fill_moments_follows_the_list() {
+        let a = [(0.0, 1.0), (1.0, 3.0)];
+        let b = [(0.0, 2.0), (0.5, 0.0), (1.0, 2.0)];
+        let list = [
+            (SectionProp::RhoA, 0),
+            (SectionProp::RhoA, 3),
+            (SectionProp::EiZ, 1),
+        ];
+        let table = |p: SectionProp| -> &[(f64, f64)] {
+            if p == SectionProp::RhoA {
+                &a
+            } else {
+                &b
+            }
+        };
+        let mut mu = [0.0; 3];
+        fill_moments(&list, table, 0.0, 1.0, &mut mu).unwrap();
+        // ∫(1 + 2ξ) = 2, ∫(1 + 2ξ) ξ³ = 1/4 + 2/5; ∫|4ξ − 2| ξ = 1/2.
+        assert!((mu[0] - 2.0).abs() < 1e-15);
+        assert!((mu[1] - 0.65).abs() < 1e-15);
+        assert!((mu[2] - 0.5).abs() < 1e-15);
+        let e = fill_moments(&list, table, 0.0, 1.0, &mut [0.0; 2]).unwrap_err();
+        assert!(e.to_string().contains("3 moments"), "{e}");
+    }
+
+    #[test]
+    fn twisted_moments_keep_the_principal_values() {
+        let (iy, iz, iyz) = twisted_moments(3.0, 11.0, 0.4);
+        assert!((iy + iz - 14.0).abs() < 1e-13);
+        assert!((iy * iz - iyz * iyz - 33.0).abs() < 1e-12);
+        // ∫(y'·r)² along y' = (cos θ, sin θ) is i_z'; along z' it is i_y'.
+        let (s, c) = 0.4f64.sin_cos();
+        assert!((iz * c * c + iy * s * s + 2.0 * iyz * s * c - 11.0).abs() < 1e-12);
+        assert!((iz * s * s + iy * c * c - 2.0 * iyz * s * c - 3.0).abs() < 1e-12);
+        assert_eq!(twisted_moments(3.0, 11.0, 0.0), (3.0, 11.0, 0.0));
     }
 }
