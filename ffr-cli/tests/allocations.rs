@@ -95,3 +95,14 @@ fn mechanism_steps_allocate_nothing() {
         assert!(a.iter().all(|&n| n == 0), "dim {dim}: {a:?}");
     }
 }
+
+/// The 5-MW blade (`scenes/blade_5mw.toml`: 49 section stations, varying
+/// kernels on tapes, a rigid hub with a fixed joint) steps without
+/// allocating, during the spin-up.
+#[test]
+fn blade_with_sections_steps_allocate_nothing() {
+    let path = ffr::scene::load::builtin_dir().join("blade_5mw.toml");
+    let scene = ffr::scene::load(&path).unwrap();
+    let a = allocations(&scene.system, scene.dt, 200, scene.integrator);
+    assert!(a.iter().all(|&n| n == 0), "{a:?}");
+}

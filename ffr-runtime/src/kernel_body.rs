@@ -191,53 +191,46 @@ impl<K: ElementKernels> KernelBody<K> {
                 )
             }
         };
-        // Each property at the stations, in body axes.
-        let property = |p: SectionProp| -> Vec<(f64, f64)> {
+        // Each property at the stations, in body axes (the twist turns the
+        // principal-axis values: `ffr_spec::twisted_moments`).
+        let at_stations = |p: SectionProp| -> Vec<(f64, f64)> {
             stations
                 .iter()
                 .map(|s| {
-                    let (sin, cos) = s.twist.sin_cos();
-                    let (c2, s2, sc) = (cos * cos, sin * sin, sin * cos);
+                    let (ei_yy, ei_zz, ei_yz) = ffr_spec::twisted_moments(s.ei_y, s.ei_z, s.twist);
+                    let (r_yy, r_zz, r_yz) = ffr_spec::twisted_moments(s.rho_iy, s.rho_iz, s.twist);
                     let v = match p {
                         SectionProp::RhoA => s.mass,
-                        SectionProp::RhoIy => s.rho_iy * c2 + s.rho_iz * s2,
-                        SectionProp::RhoIz => s.rho_iy * s2 + s.rho_iz * c2,
-                        SectionProp::RhoIyz => (s.rho_iz - s.rho_iy) * sc,
+                        SectionProp::RhoIy => r_yy,
+                        SectionProp::RhoIz => r_zz,
+                        SectionProp::RhoIyz => r_yz,
                         SectionProp::RhoJ => s.rho_j,
                         SectionProp::Ea => s.ea,
-                        SectionProp::EiY => s.ei_y * c2 + s.ei_z * s2,
-                        SectionProp::EiZ => s.ei_y * s2 + s.ei_z * c2,
-                        SectionProp::EiYz => (s.ei_z - s.ei_y) * sc,
+                        SectionProp::EiY => ei_yy,
+                        SectionProp::EiZ => ei_zz,
+                        SectionProp::EiYz => ei_yz,
                         SectionProp::Gj => s.gj,
                     };
                     (s.x, v)
                 })
                 .collect()
         };
-        let mut props: Vec<(SectionProp, usize)> = Vec::new();
-        for &(p, k) in &wanted {
-            match props.iter_mut().find(|(q, _)| *q == p) {
-                Some((_, n)) => *n = (*n).max(k as usize + 1),
-                None => props.push((p, k as usize + 1)),
-            }
-        }
-        // Each property read: its stations `(x, value)` and how many moments.
-        type Table = (SectionProp, Vec<(f64, f64)>, usize);
-        let tables: Vec<Table> = props.iter().map(|&(p, n)| (p, property(p), n)).collect();
+        let tables: Vec<Vec<(f64, f64)>> =
+            SectionProp::ALL.iter().map(|p| at_stations(*p)).collect();
+        let table = |p: SectionProp| -> &[(f64, f64)] {
+            let i = SectionProp::ALL
+                .iter()
+                .position(|q| *q == p)
+                .expect("every property");
+            &tables[i]
+        };
         let nc = kernels.info().n_coefficients;
         let elements = lengths.len();
         let mut coef = vec![0.0; nc * elements];
         let mut mu = vec![0.0; wanted.len()];
-        let mut moments: Vec<Vec<f64>> = tables.iter().map(|(_, _, n)| vec![0.0; *n]).collect();
         for e in 0..elements {
-            for ((_, st, _), out) in tables.iter().zip(moments.iter_mut()) {
-                ffr_spec::element_moments(st, x0[e], lengths[e], out)
-                    .map_err(|m| bad(m.to_string()))?;
-            }
-            for (slot, &(p, k)) in mu.iter_mut().zip(&wanted) {
-                let t = tables.iter().position(|(q, _, _)| *q == p).expect("listed");
-                *slot = moments[t][k as usize];
-            }
+            ffr_spec::fill_moments(&wanted, table, x0[e], lengths[e], &mut mu)
+                .map_err(|m| bad(m.to_string()))?;
             kernels.section_coefficients(&mu, lengths[e], &mut coef[e * nc..(e + 1) * nc]);
         }
         let mut params = [0.0; 8];
