@@ -281,3 +281,81 @@ fn tapered_cantilever_matches_the_published_frequencies() {
         );
     }
 }
+
+/// `params` may give the polar mass moment `rho_j` (kg m) of its own: the
+/// body then runs the varying-section kernels on a one-section table. With
+/// `rho_j = ρ(I_y + I_z)` its modes are those of the plain `params` (to
+/// round-off); with another `rho_j` the first torsion mode of the clamped
+/// bar moves to `√(GJ/rho_j)/(4L)` (32 linear torsion elements: within
+/// 3e-4) and the bending modes stay.
+#[test]
+fn params_with_a_polar_mass_moment() {
+    let (l, rho, area, iy, iz, e, g, j) = (2.0, 7850.0, 1e-4, 8e-10, 9e-10, 2.1e11, 8.1e10, 1.5e-9);
+    let scene = |rho_j: Option<f64>| {
+        let extra = rho_j.map_or(String::new(), |x| format!(", rho_j = {x:?}"));
+        let text = format!(
+            "dimension = 3\nt_end = 1.0\ndt = 0.01\n\n[bodies.bar]\nshape = \"beam3\"\nelements = 32\nparams = {{ length = {l:?}, rho = {rho:?}, area = {area:?}, iy = {iy:?}, iz = {iz:?}, e = {e:?}, g = {g:?}, j = {j:?}{extra} }}\n"
+        );
+        let s = scene::from_str(&text, "bar.toml", Path::new("."), &DefaultKernels)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let f = s.flex[0].clone();
+        let id = s.system.body_id("bar").unwrap();
+        let inv = s.system.body(id).invariants();
+        let body = match &f.sections {
+            None => ffr::modal::ReducibleBody::from_parts(
+                &f.shape,
+                f.elements,
+                f.reference,
+                f.options.formalism,
+                f.params,
+            ),
+            Some(_) => ffr::modal::ReducibleBody::from_runtime(
+                &f.shape,
+                f.elements,
+                None,
+                true,
+                f.reference,
+                f.options.formalism,
+                f.params,
+                &inv,
+            ),
+        }
+        .unwrap();
+        let hz: Vec<f64> = body
+            .reduce(Some(12), &[], "count")
+            .unwrap()
+            .frequencies
+            .iter()
+            .map(|w| w / std::f64::consts::TAU)
+            .collect();
+        (f.sections.is_some(), hz)
+    };
+    let (varying_plain, plain) = scene(None);
+    let (varying_same, same) = scene(Some(rho * (iy + iz)));
+    assert!(!varying_plain && varying_same);
+    for (a, b) in plain.iter().zip(&same) {
+        assert!((a - b).abs() < 1e-10 * a, "{a} vs {b}");
+    }
+    // Ten times the polar moment: the torsion frequency falls by √10.
+    let rho_j = 10.0 * rho * (iy + iz);
+    let (_, heavy) = scene(Some(rho_j));
+    let torsion = (g * j / rho_j).sqrt() / (4.0 * l);
+    let closest = heavy
+        .iter()
+        .copied()
+        .min_by(|a, b| (a - torsion).abs().total_cmp(&(b - torsion).abs()))
+        .unwrap();
+    assert!(
+        (closest - torsion).abs() < 3e-4 * torsion,
+        "{closest} vs {torsion}: {heavy:?}"
+    );
+    // The bending modes (those of the plain bar below the torsion mode) stay.
+    let below: Vec<&f64> = plain.iter().filter(|f| **f < 0.5 * torsion).collect();
+    assert!(below.len() >= 4, "{plain:?}");
+    for f in below {
+        assert!(
+            heavy.iter().any(|h| (h - f).abs() < 1e-10 * f),
+            "{f} not in {heavy:?}"
+        );
+    }
+}

@@ -102,7 +102,14 @@ pub fn flex_models(raw: &RawScene, text: &str, file: &str) -> Result<Vec<FlexBod
                 scene: ffr_spec::SceneDim::from_dim(dim),
                 frame: ffr_spec::FrameModel::from_flags(!fixed, fixed && !gravity),
             },
-            sections: if rb.sections.is_some() {
+            // A section table, or uniform `params` with their own polar
+            // mass moment `rho_j` (read as a one-section table).
+            sections: if rb.sections.is_some()
+                || rb
+                    .params
+                    .as_ref()
+                    .is_some_and(|p| p.get_ref().keys().any(|k| k.get_ref() == "rho_j"))
+            {
                 ffr_spec::SectionModel::Varying
             } else {
                 ffr_spec::SectionModel::Uniform

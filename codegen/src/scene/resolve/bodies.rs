@@ -82,8 +82,12 @@ pub(super) fn bodies(
             let modal = modal_settings(c, name_s, rb, n)?;
             let (params, given, params_span, sections) = match &rb.sections {
                 None => {
-                    let (p, g, s) = parse_params(c, name_s, rb, span.clone())?;
-                    (p, g, s, None)
+                    let (p, g, s, rho_j) = parse_params(c, name_s, rb, span.clone())?;
+                    let table = match rho_j {
+                        None => None,
+                        Some((x, at)) => Some(uniform_table(c, name_s, &p, x, at)?),
+                    };
+                    (p, g, s, table)
                 }
                 Some(v) => {
                     if let Some(p) = &rb.params {
@@ -300,12 +304,15 @@ fn mesh(
 
 const PARAMS: &str = "length, rho, area, iy, iz, e, g, j";
 
+/// The uniform `params`, which they give, where they are written, and the
+/// polar mass moment `rho_j` (kg m) when given.
+#[allow(clippy::type_complexity)]
 fn parse_params(
     c: &Ctx,
     body: &str,
     raw: &RawBody,
     span: Range<usize>,
-) -> Result<(Params, [bool; 8], Range<usize>), Error> {
+) -> Result<(Params, [bool; 8], Range<usize>, Option<(f64, Range<usize>)>), Error> {
     let Some(p) = &raw.params else {
         return Err(c.err(
             span,
@@ -314,12 +321,21 @@ fn parse_params(
     };
     let mut v = [0.0; 8];
     let mut given = [false; 8];
+    let mut rho_j = None;
     for (k, val) in p.get_ref() {
+        if k.get_ref() == "rho_j" {
+            let x = fin_f64(c, val, "rho_j")?;
+            if x < 0.0 {
+                return Err(c.err(val.span(), format!("`rho_j` must be ≥ 0, found {x:?}")));
+            }
+            rho_j = Some((x, k.span()));
+            continue;
+        }
         let Some(i) = Param::FIELDS.iter().position(|f| f.field() == k.get_ref()) else {
             return Err(c.err(
                 k.span(),
                 format!(
-                    "unknown parameter `{}`: expected one of {PARAMS}",
+                    "unknown parameter `{}`: expected one of {PARAMS}, rho_j",
                     q(k.get_ref())
                 ),
             ));
@@ -330,7 +346,44 @@ fn parse_params(
     if !given[0] {
         return Err(c.err(p.span(), format!("body `{body}`: `params` needs `length`")));
     }
-    Ok((Params::from_array(v), given, p.span()))
+    Ok((Params::from_array(v), given, p.span(), rho_j))
+}
+
+/// Uniform `params` with a polar mass moment `rho_j` of their own: the
+/// one-section table (two equal stations, x = 0 and L) the varying-section
+/// kernels read, since the uniform kernels tie the polar moment to
+/// `ρ (I_y + I_z)`.
+fn uniform_table(
+    c: &Ctx,
+    body: &str,
+    p: &Params,
+    rho_j: f64,
+    at: Range<usize>,
+) -> Result<ffr_spec::scene::SectionTable, Error> {
+    for (what, v) in [("rho", p.rho), ("area", p.area), ("e", p.e)] {
+        if !(v > 0.0) {
+            return Err(c.err(
+                at.clone(),
+                format!("body `{body}`: with `rho_j`, `params` needs `{what}` > 0 (found {v:?}): the section is read as a one-section table of rho, area, iy, iz, e, g, j"),
+            ));
+        }
+    }
+    let station = |x: f64| ffr_spec::scene::Station {
+        x,
+        mass: p.rho * p.area,
+        ea: p.e * p.area,
+        ei_y: p.e * p.iy,
+        ei_z: p.e * p.iz,
+        gj: p.g * p.j,
+        rho_iy: p.rho * p.iy,
+        rho_iz: p.rho * p.iz,
+        rho_j,
+        twist: 0.0,
+    };
+    Ok(ffr_spec::scene::SectionTable {
+        stations: vec![station(0.0), station(p.length)],
+        at: c.loc(at),
+    })
 }
 
 fn rigid_body(rb: &RawBody) -> bool {
