@@ -46,6 +46,18 @@ fn blade_scene(edits: &[(&str, &str)]) -> scene::Scene {
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The independent FE program's results (`bench/blade/results.json`).
+fn fe_results() -> serde_json::Value {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../bench/blade/results.json");
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// `nodes = [...]` at the table's stations.
+fn on_stations(t: &[[f64; 3]]) -> String {
+    let xs: Vec<String> = t.iter().map(|r| format!("{:?}", r[0])).collect();
+    format!("nodes = [{}]", xs.join(", "))
+}
+
 /// `∫ m(x) x^p dx` over the table, exactly: on each piece `m` is linear.
 fn moment(t: &[[f64; 3]], p: i32) -> f64 {
     t.windows(2)
@@ -66,21 +78,13 @@ fn mass_and_moments_are_the_exact_integrals_of_the_table() {
     let t = table();
     let (m0, m1, m2) = (moment(&t, 0), moment(&t, 1), moment(&t, 2));
     // The Python FE's quadrature of the same table (bench/blade/results.json).
-    let fe: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../bench/blade/results.json"
-        ))
-        .unwrap(),
-    )
-    .unwrap();
+    let fe = fe_results();
     let i = &fe["nrel5mw"]["integrals"];
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
     assert!(rel(m0, i["mass"].as_f64().unwrap()) < 1e-12);
     assert!(rel(m1, i["first_moment"].as_f64().unwrap()) < 1e-12);
     assert!(rel(m2, i["second_moment"].as_f64().unwrap()) < 1e-12);
-    let stations: Vec<String> = t.iter().map(|r| format!("{:?}", r[0])).collect();
-    let on_stations = format!("nodes = [{}]", stations.join(", "));
+    let on_stations = on_stations(&t);
     // Equal elements (stations inside elements), nodes on the stations, and
     // a graded mesh that cuts the table anywhere.
     let graded: Vec<String> = (0..=11)
@@ -110,18 +114,10 @@ fn mass_and_moments_are_the_exact_integrals_of_the_table() {
 
 #[test]
 fn clamped_frequencies_agree_with_an_independent_fe_program() {
-    let fe: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../bench/blade/results.json"
-        ))
-        .unwrap(),
-    )
-    .unwrap();
+    let fe = fe_results();
     let series = &fe["nrel5mw"]["study"]["twist_components"]["series"];
     let t = table();
-    let stations: Vec<String> = t.iter().map(|r| format!("{:?}", r[0])).collect();
-    let on_stations = format!("nodes = [{}]", stations.join(", "));
+    let on_stations = on_stations(&t);
     let equal16 = "elements = 16".to_string();
     let equal32 = "elements = 32".to_string();
     for (mesh, row) in [
