@@ -32,7 +32,7 @@ use crate::error::Error;
 use crate::kernel::generate_checked;
 use crate::sanitize::{check_identifier, check_type_name};
 use crate::shape::Shape;
-use ffr_spec::{FrameModel, KernelOptions, SceneDim, Stiffening};
+use ffr_spec::{FrameModel, KernelOptions, SceneDim, SectionModel, Stiffening};
 use std::path::{Path, PathBuf};
 
 /// One set of element kernels: a name, a shape and the options.
@@ -49,6 +49,10 @@ pub struct KernelConfig {
     /// A scene dimension other than 2 or 3 given to
     /// [`KernelConfig::scene_dim`], refused by [`KernelConfig::model`].
     pub invalid_scene_dim: Option<usize>,
+    /// One uniform section (the body's parameters) or sections varying
+    /// along the span (the kernels read element moments; the runtime's
+    /// `KernelBody::with_sections` gives them from a section table).
+    pub sections: SectionModel,
 }
 
 impl KernelConfig {
@@ -60,7 +64,14 @@ impl KernelConfig {
             shape: shape.as_ref().to_string(),
             options: KernelOptions::new(),
             invalid_scene_dim: None,
+            sections: SectionModel::Uniform,
         }
+    }
+    /// Kernels for sections that vary along the span (a section table),
+    /// or for one uniform section (the default).
+    pub fn sections(mut self, s: SectionModel) -> Self {
+        self.sections = s;
+        self
     }
     /// All options at once.
     pub fn options(mut self, o: KernelOptions) -> Self {
@@ -119,7 +130,7 @@ impl KernelConfig {
             )));
         }
         let shape = resolve_shape(&self.shape, base)?;
-        let model = KernelModel::new(shape, self.options);
+        let model = KernelModel::new(shape, self.options).with_sections(self.sections);
         if model.scene_dim() < model.shape.dimension {
             return Err(Error::Body(format!(
                 "shape `{}` is spatial: it needs a spatial scene (scene dimension 3)",

@@ -183,3 +183,32 @@ fn bad_tables_are_located_errors() {
     assert!(e.contains("has `params` and `sections`"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `Builder` writes kernels for varying sections on request (a build
+/// script's own, to use with `KernelBody::with_sections`): the file has the
+/// section coefficient kernel and the list of moments it reads; the default
+/// stays the uniform kernels, without them.
+#[test]
+fn builder_writes_varying_section_kernels_on_request() {
+    use ffr_codegen::builder::{Builder, KernelConfig};
+    use ffr_spec::SectionModel;
+    let render = |k: KernelConfig| {
+        let files = Builder::new()
+            .kernels(k)
+            .manifest_dir(env!("CARGO_MANIFEST_DIR"))
+            .render()
+            .unwrap();
+        files[0].contents.clone()
+    };
+    let varying = render(KernelConfig::new("blade", "beam3").sections(SectionModel::Varying));
+    assert!(
+        varying.contains("fn section_coefficients("),
+        "{}",
+        &varying[..500]
+    );
+    assert!(varying.contains("fn section_moments("));
+    assert!(varying.contains("SectionProp::EiYz"));
+    let uniform = render(KernelConfig::new("blade", "beam3"));
+    assert!(!uniform.contains("fn section_coefficients("));
+    assert_ne!(varying, uniform);
+}
