@@ -116,6 +116,37 @@ impl ReducibleBody {
         })
     }
 
+    /// The flexible body `f` of a built scene (`body`: its runtime body):
+    /// equal elements of one section through the exact invariants
+    /// ([`ReducibleBody::from_parts`], the body the command-line flags
+    /// describe), a graded mesh or a section table through the runtime's
+    /// assembly of its elements ([`ReducibleBody::from_runtime`]).
+    pub fn of_scene_body(
+        f: &crate::scene::FlexSpec,
+        body: &dyn crate::runtime::Body,
+    ) -> crate::Result<Self> {
+        if f.nodes.is_none() && f.sections.is_none() {
+            Self::from_parts(
+                &f.shape,
+                f.elements,
+                f.reference,
+                f.options.formalism,
+                f.params,
+            )
+        } else {
+            Self::from_runtime(
+                &f.shape,
+                f.elements,
+                f.nodes.as_deref(),
+                f.sections.is_some(),
+                f.reference,
+                f.options.formalism,
+                f.params,
+                &body.invariants(),
+            )
+        }
+    }
+
     /// A body on a graded mesh (`nodes`: `Some`, from
     /// [`crate::runtime::KernelBody::with_nodes`]) or with varying sections
     /// (`varying_sections`, equal elements when `nodes` is `None`): the

@@ -63,6 +63,6 @@ for p in $(seq 1 "$pairs"); do
         start=$(date +%s.%N)
         (cd "$work/$c" && cargo build --quiet $flag)
         end=$(date +%s.%N)
-        echo "$p,$profile,$c,$(echo "$end - $start" | bc -l | xargs printf '%.1f')"
+        echo "$p,$profile,$c,$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", b - a }')"
     done
 done

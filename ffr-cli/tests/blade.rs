@@ -46,6 +46,21 @@ fn blade_scene(edits: &[(&str, &str)]) -> scene::Scene {
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The `count` lowest clamped frequencies (Hz) of the scene's flexible body
+/// `name`, as `ffr modes --scene` computes them.
+fn frequencies(s: &scene::Scene, name: &str, count: usize) -> Vec<f64> {
+    let f = s.flex.iter().find(|f| f.name == name).unwrap();
+    let body = s.system.body(s.system.body_id(name).unwrap());
+    ffr::modal::ReducibleBody::of_scene_body(f, body.as_ref())
+        .unwrap()
+        .reduce(Some(count), &[], "count")
+        .unwrap()
+        .frequencies
+        .iter()
+        .map(|w| w / std::f64::consts::TAU)
+        .collect()
+}
+
 /// The independent FE program's results (`bench/blade/results.json`).
 fn fe_results() -> serde_json::Value {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../bench/blade/results.json");
@@ -126,25 +141,7 @@ fn clamped_frequencies_agree_with_an_independent_fe_program() {
         (&on_stations, &series["stations"]["rows"][0]),
     ] {
         let s = blade_scene(&[("elements = 16", mesh)]);
-        let f = s.flex.iter().find(|f| f.name == "blade").unwrap();
-        let id = s.system.body_id("blade").unwrap();
-        let body = ffr::modal::ReducibleBody::from_runtime(
-            &f.shape,
-            f.elements,
-            f.nodes.as_deref(),
-            true,
-            f.reference,
-            f.options.formalism,
-            f.params,
-            &s.system.body(id).invariants(),
-        )
-        .unwrap();
-        let basis = body.reduce(Some(4), &[], "count").unwrap();
-        let hz: Vec<f64> = basis
-            .frequencies
-            .iter()
-            .map(|w| w / std::f64::consts::TAU)
-            .collect();
+        let hz = frequencies(&s, "blade", 4);
         // Ascending: 1st flap, 1st edge, 2nd flap, 2nd edge.
         let fe_hz = &row["f_hz"];
         for (i, key) in ["flap1", "edge1", "flap2", "edge2"].iter().enumerate() {
@@ -246,25 +243,12 @@ fn tapered_cantilever_matches_the_published_frequencies() {
     let s = scene::from_str(&text, "taper.toml", &dir, &DefaultKernels)
         .unwrap_or_else(|e| panic!("{e}"));
     let _ = std::fs::remove_dir_all(&dir);
-    let f = s.flex.iter().find(|f| f.name == "bar").unwrap();
-    let id = s.system.body_id("bar").unwrap();
-    let body = ffr::modal::ReducibleBody::from_runtime(
-        &f.shape,
-        f.elements,
-        None,
-        true,
-        f.reference,
-        f.options.formalism,
-        f.params,
-        &s.system.body(id).invariants(),
-    )
-    .unwrap();
-    let basis = body.reduce(Some(5), &[], "count").unwrap();
+    let hz = frequencies(&s, "bar", 5);
     // Bending modes only: the axial ones are far above (EA/m).
     let published = [23.289, 73.9, 165.23, 299.7, 478.1];
     let scale = h1 / (l * l) * (e / (12.0 * rho)).sqrt();
     for (i, want) in published.iter().enumerate() {
-        let lambda = basis.frequencies[i] / scale;
+        let lambda = hz[i] * std::f64::consts::TAU / scale;
         eprintln!(
             "mode {}: λ = {lambda:.6} (published {want}, {:+.1e})",
             i + 1,
@@ -294,37 +278,8 @@ fn params_with_a_polar_mass_moment() {
         );
         let s = scene::from_str(&text, "bar.toml", Path::new("."), &DefaultKernels)
             .unwrap_or_else(|e| panic!("{e}"));
-        let f = s.flex[0].clone();
-        let id = s.system.body_id("bar").unwrap();
-        let inv = s.system.body(id).invariants();
-        let body = match &f.sections {
-            None => ffr::modal::ReducibleBody::from_parts(
-                &f.shape,
-                f.elements,
-                f.reference,
-                f.options.formalism,
-                f.params,
-            ),
-            Some(_) => ffr::modal::ReducibleBody::from_runtime(
-                &f.shape,
-                f.elements,
-                None,
-                true,
-                f.reference,
-                f.options.formalism,
-                f.params,
-                &inv,
-            ),
-        }
-        .unwrap();
-        let hz: Vec<f64> = body
-            .reduce(Some(12), &[], "count")
-            .unwrap()
-            .frequencies
-            .iter()
-            .map(|w| w / std::f64::consts::TAU)
-            .collect();
-        (f.sections.is_some(), hz)
+        let hz = frequencies(&s, "bar", 12);
+        (s.flex[0].sections.is_some(), hz)
     };
     let (varying_plain, plain) = scene(None);
     let (varying_same, same) = scene(Some(rho * (iy + iz)));

@@ -41,44 +41,9 @@ pub struct KernelBody<K> {
     lengths: Vec<f64>,
 }
 
-/// The nodes of a graded mesh checked: 2 to `MAX_ELEMENTS + 1`, finite, the
-/// first at 0, the last at `length`, strictly increasing.
+/// [`ffr_spec::check_nodes`] as the runtime's error.
 fn check_nodes(nodes: &[f64], length: f64) -> Result<()> {
-    let n = nodes.len();
-    if !(2..=ffr_spec::MAX_ELEMENTS + 1).contains(&n) {
-        return Err(Error::InvalidInput(format!(
-            "a mesh needs 2 to {} nodes (1 to {} elements), found {n}",
-            ffr_spec::MAX_ELEMENTS + 1,
-            ffr_spec::MAX_ELEMENTS
-        )));
-    }
-    if let Some((i, x)) = nodes.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-        return Err(Error::InvalidInput(format!(
-            "node {i} is at x = {x}: nodes must be finite"
-        )));
-    }
-    if nodes[0] != 0.0 {
-        return Err(Error::InvalidInput(format!(
-            "the first node is at x = {}: a mesh starts at the body's root, x = 0",
-            nodes[0]
-        )));
-    }
-    if nodes[n - 1] != length {
-        return Err(Error::InvalidInput(format!(
-            "the last node is at x = {}: a mesh ends at the body's length, x = L = {} m",
-            nodes[n - 1],
-            length
-        )));
-    }
-    if let Some(i) = (1..n).find(|&i| nodes[i] <= nodes[i - 1]) {
-        return Err(Error::InvalidInput(format!(
-            "nodes {} and {i} are at x = {} and x = {}: nodes must increase strictly",
-            i - 1,
-            nodes[i - 1],
-            nodes[i]
-        )));
-    }
-    Ok(())
+    ffr_spec::check_nodes(nodes, length).map_err(|e| Error::InvalidInput(e.to_string()))
 }
 
 /// Offsets of the scratch regions of one element evaluation.

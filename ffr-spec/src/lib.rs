@@ -26,7 +26,9 @@ pub mod text;
 pub use kernel_kind::KernelKind;
 pub use kernel_options::{FrameModel, KernelOptions, SceneDim};
 pub use location::Location;
-pub use mesh::{Dof, ElementCoordinate, Kind, Mesh, MeshError, Reference, MAX_ELEMENTS};
+pub use mesh::{
+    check_nodes, Dof, ElementCoordinate, Kind, Mesh, MeshError, Reference, MAX_ELEMENTS,
+};
 pub use options::{Formalism, Stiffening};
 pub use params::{Param, ParamError, Params};
 pub use section::{

@@ -173,6 +173,45 @@ impl fmt::Display for MeshError {
 
 impl std::error::Error for MeshError {}
 
+/// The nodes of a graded mesh checked: 2 to `MAX_ELEMENTS + 1`, finite, the
+/// first at 0, the last at `length`, strictly increasing (the scene reader
+/// and the runtime's `KernelBody::with_nodes` both check through this).
+pub fn check_nodes(nodes: &[f64], length: f64) -> Result<(), MeshError> {
+    let n = nodes.len();
+    if !(2..=MAX_ELEMENTS + 1).contains(&n) {
+        return Err(MeshError(format!(
+            "a mesh needs 2 to {} nodes (1 to {MAX_ELEMENTS} elements), found {n}",
+            MAX_ELEMENTS + 1
+        )));
+    }
+    if let Some((i, x)) = nodes.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+        return Err(MeshError(format!(
+            "node {i} is at x = {x:?}: nodes must be finite"
+        )));
+    }
+    if nodes[0] != 0.0 {
+        return Err(MeshError(format!(
+            "the first node is at x = {:?}: a mesh starts at the body's root, x = 0",
+            nodes[0]
+        )));
+    }
+    if nodes[n - 1] != length {
+        return Err(MeshError(format!(
+            "the last node is at x = {:?}: a mesh ends at the body's length, x = L = {length:?} m",
+            nodes[n - 1]
+        )));
+    }
+    if let Some(i) = (1..n).find(|&i| nodes[i] <= nodes[i - 1]) {
+        return Err(MeshError(format!(
+            "nodes {} and {i} are at x = {:?} and x = {:?}: nodes must increase strictly",
+            i - 1,
+            nodes[i - 1],
+            nodes[i]
+        )));
+    }
+    Ok(())
+}
+
 /// `N` equal elements along body x from node 0 (the body-frame origin) to
 /// node `N`, sharing nodal coordinates, with a reference condition.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -95,32 +95,10 @@ pub fn scene_body(
     Ok((scene, id, f))
 }
 
-/// The body of `--scene FILE --body NAME`: equal elements of one section
-/// through the exact invariants (as the flags describe the same body), a
-/// graded mesh or a section table through the runtime's assembly of its
-/// elements.
+/// The body of `--scene FILE --body NAME` ([`ReducibleBody::of_scene_body`]).
 fn reducible_from_scene(path: &Path, name: &str) -> Result<ReducibleBody, Box<dyn Error>> {
     let (scene, id, f) = scene_body(path, name)?;
-    Ok(if f.nodes.is_none() && f.sections.is_none() {
-        ReducibleBody::from_parts(
-            &f.shape,
-            f.elements,
-            f.reference,
-            f.options.formalism,
-            f.params,
-        )?
-    } else {
-        ReducibleBody::from_runtime(
-            &f.shape,
-            f.elements,
-            f.nodes.as_deref(),
-            f.sections.is_some(),
-            f.reference,
-            f.options.formalism,
-            f.params,
-            &scene.system.body(id).invariants(),
-        )?
-    })
+    Ok(ReducibleBody::of_scene_body(&f, scene.system.body(id))?)
 }
 
 /// `ffr modes`: print the frequencies (or, with `json`, the whole reduction).

@@ -112,16 +112,8 @@ pub(super) fn bodies(
                 ));
             }
             if let Some((xs, at)) = &nodes {
-                let last = *xs.last().expect("at least two nodes");
-                if last != params.length {
-                    return Err(c.err(
-                        at.clone(),
-                        format!(
-                            "body `{name_s}`: the last node is at x = {last:?}, not at the body's end x = `length` = {:?}",
-                            params.length
-                        ),
-                    ));
-                }
+                ffr_spec::check_nodes(xs, params.length)
+                    .map_err(|e| c.err(at.clone(), format!("body `{name_s}`: {e}")))?;
             }
             let shape_s = shape.get_ref();
             let resolved = if crate::Shape::builtin(shape_s).is_some() {
@@ -242,7 +234,7 @@ pub(super) fn bodies(
 
 /// The mesh a flexible body asks for: `elements = N` equal elements, or
 /// `nodes = [0.0, …, L]` (a graded mesh: the nodes and where they are
-/// written; the last node is checked against `length` with the parameters).
+/// written, checked once the parameters give `length`).
 #[allow(clippy::type_complexity)]
 fn mesh(
     c: &Ctx,
@@ -271,33 +263,9 @@ fn mesh(
             Ok((n as usize, None))
         }
         (None, Some(nodes)) => {
+            // Checked with the parameters' `length` (`ffr_spec::check_nodes`).
             let xs = nodes.get_ref();
-            let bad = |msg: String| Err(c.err(nodes.span(), format!("body `{name}`: {msg}")));
-            if xs.len() < 2 || xs.len() > max + 1 {
-                return bad(format!(
-                    "`nodes` lists 2 to {} positions (1 to {max} elements), found {}",
-                    max + 1,
-                    xs.len()
-                ));
-            }
-            if let Some(x) = xs.iter().find(|x| !x.is_finite()) {
-                return bad(format!("`nodes` must be finite, found {x:?}"));
-            }
-            if xs[0] != 0.0 {
-                return bad(format!(
-                    "the first node is at x = {:?}: a mesh starts at the body's root, x = 0",
-                    xs[0]
-                ));
-            }
-            if let Some(i) = (1..xs.len()).find(|&i| xs[i] <= xs[i - 1]) {
-                return bad(format!(
-                    "nodes {} and {i} are at x = {:?} and x = {:?}: `nodes` must increase strictly",
-                    i - 1,
-                    xs[i - 1],
-                    xs[i]
-                ));
-            }
-            Ok((xs.len() - 1, Some((xs.clone(), nodes.span()))))
+            Ok((xs.len().saturating_sub(1), Some((xs.clone(), nodes.span()))))
         }
     }
 }
