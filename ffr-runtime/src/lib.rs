@@ -13,10 +13,12 @@
 //! - [`integrator`]: generalized-α (index 3) and RK4–Baumgarte.
 
 pub mod assembly;
+mod attached;
 pub mod body;
 pub mod driver;
 pub mod error;
 pub mod force;
+mod inertia;
 pub mod initial;
 pub mod integrator;
 pub mod joint;
