@@ -532,9 +532,20 @@ pub fn generate_scene(
         .into_iter()
         .map(|m| {
             let shape = resolve_shape(&m.shape, &dir)?;
+            // Varying-section kernels for a body the scene resolves to a
+            // section table (a uniform material table is `params`).
+            let varying = spec.bodies.iter().any(|b| match &b.kind {
+                ffr_spec::scene::BodyKind::Flexible(f) => f.name == m.name && f.sections.is_some(),
+                _ => false,
+            });
+            let sections = if varying {
+                SectionModel::Varying
+            } else {
+                SectionModel::Uniform
+            };
             Ok((
                 m.name,
-                generate_checked(&KernelModel::new(shape, m.options).with_sections(m.sections))?,
+                generate_checked(&KernelModel::new(shape, m.options).with_sections(sections))?,
             ))
         })
         .collect::<Result<Vec<_>, Error>>()?;

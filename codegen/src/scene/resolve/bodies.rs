@@ -97,13 +97,19 @@ pub(super) fn bodies(
                             format!("body `{name_s}` has `params` and `sections`: give one (`params`: a uniform beam; `sections`: properties along the span, the length is the last station's x)"),
                         ));
                     }
-                    let table = sections::sections(c, name_s, v, base)?;
-                    let length = table.stations.last().expect("two stations or more").x;
-                    let mut p = [0.0; 8];
-                    p[0] = length;
-                    let mut given = [false; 8];
-                    given[0] = true;
-                    (Params::from_array(p), given, v.span(), Some(table))
+                    match sections::sections(c, name_s, v, base)? {
+                        // One uniform section in the material form: the
+                        // uniform body of its parameters.
+                        (_, Some(p)) => (p, [true; 8], v.span(), None),
+                        (table, None) => {
+                            let length = table.stations.last().expect("two stations or more").x;
+                            let mut p = [0.0; 8];
+                            p[0] = length;
+                            let mut given = [false; 8];
+                            given[0] = true;
+                            (Params::from_array(p), given, v.span(), Some(table))
+                        }
+                    }
                 }
             };
             if let (true, Some(m)) = (nodes.is_some() || rb.sections.is_some(), &rb.modes) {

@@ -28,13 +28,16 @@ type Row = BTreeMap<String, (f64, Location)>;
 
 /// The section table of body `name` from the value of its `sections` key
 /// (a CSV path relative to `base`, the scene's directory, or an inline
-/// array of tables).
+/// array of tables), and, when the table is one uniform section in the
+/// material form (every station the same `rho, area, iy, iz, e, g, j`, no
+/// `rho_j` or `twist` column), the `params` it means: such a body is the
+/// uniform body of those parameters, on the same kernels, bit for bit.
 pub(super) fn sections(
     c: &Ctx,
     name: &str,
     v: &Spanned<toml::Value>,
     base: &Path,
-) -> Result<SectionTable, Error> {
+) -> Result<(SectionTable, Option<ffr_spec::Params>), Error> {
     let (rows, at, columns) = match v.get_ref() {
         toml::Value::String(path) => read_csv(c, name, v.span(), &base.join(path), path)?,
         toml::Value::Array(items) => inline(c, name, v.span(), items)?,
@@ -118,6 +121,8 @@ pub(super) fn sections(
         ));
     }
     let mut stations: Vec<Station> = Vec::with_capacity(rows.len());
+    // The material values `rho, area, iy, iz, e, g, j` of every station.
+    let mut materials: Vec<[f64; 7]> = Vec::new();
     for (i, row) in rows.iter().enumerate() {
         let get = |k: &str| row.get(k).cloned();
         let need = |k: &str| get(k).expect("checked: every row has every column");
@@ -148,6 +153,7 @@ pub(super) fn sections(
         let mut st = if material {
             let (rho, area, e) = (positive("rho")?, positive("area")?, positive("e")?);
             let (iy, iz, g, j) = (nonneg("iy")?, nonneg("iz")?, nonneg("g")?, nonneg("j")?);
+            materials.push([rho, area, iy, iz, e, g, j]);
             Station {
                 x,
                 mass: rho * area,
@@ -211,7 +217,23 @@ pub(super) fn sections(
         }
         stations.push(st);
     }
-    Ok(SectionTable { stations, at })
+    let uniform = material
+        && !columns.iter().any(|c| OPTIONAL.contains(&c.as_str()))
+        && materials.windows(2).all(|w| w[0] == w[1]);
+    let params = uniform.then(|| {
+        let [rho, area, iy, iz, e, g, j] = materials[0];
+        ffr_spec::Params {
+            length: stations.last().expect("two stations or more").x,
+            rho,
+            area,
+            iy,
+            iz,
+            e,
+            g,
+            j,
+        }
+    });
+    Ok((SectionTable { stations, at }, params))
 }
 
 /// Every value of the row must be a finite number.
