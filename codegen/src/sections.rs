@@ -36,7 +36,7 @@ pub fn read_table(
 ) -> Result<(SectionTable, Option<ffr_spec::Params>), Error> {
     let (rows, at, columns) = read_csv(path, written, name, |m| Error::Io {
         path: ffr_spec::text::quoted(written),
-        message: m,
+        message: format!("the section table of body `{name}`: {m}"),
     })?;
     stations(name, rows, at, columns)
 }
@@ -243,25 +243,24 @@ fn number(text: &str) -> Option<f64> {
     text.trim().parse::<f64>().ok().filter(|x| x.is_finite())
 }
 
-/// The rows of the CSV file `path` (named `written` in messages) of body
-/// `name`: a header row, `#` comments, every field a finite number (an error
-/// at its cell otherwise); `file_err` makes the error of a file that cannot
-/// be read (too large, not UTF-8).
+/// The rows of the CSV file `path` of body `name`: a header row, `#`
+/// comments, every field a finite number (an error at its cell, in the file
+/// named `shown`, otherwise); `file_err` makes the error of a file that
+/// cannot be read (too large, not UTF-8) from what is wrong with it.
 #[allow(clippy::type_complexity)]
 pub fn read_csv(
     path: &Path,
-    written: &str,
+    shown: &str,
     name: &str,
     file_err: impl Fn(String) -> Error,
 ) -> Result<(Vec<Row>, Location, Vec<String>), Error> {
-    let file = crate::sanitize::snippet(&path.display().to_string(), usize::MAX);
+    let file = crate::sanitize::snippet(shown, usize::MAX);
     let bytes =
         crate::limits::read_input(path, MAX_TABLE_BYTES, "section table", "MAX_TABLE_BYTES")
-            .map_err(|m| file_err(format!("body `{name}`: the section table `{}`: {m}", q(written))))?;
+            .map_err(&file_err)?;
     let text = String::from_utf8(bytes).map_err(|e| {
         file_err(format!(
-            "body `{name}`: the section table `{}` is not UTF-8 text (at byte {})",
-            q(written),
+            "is not UTF-8 text (at byte {})",
             e.utf8_error().valid_up_to()
         ))
     })?;
@@ -347,3 +346,33 @@ pub fn read_csv(
     Ok((rows, at(1, 1), header))
 }
 
+/// The stations of a generated body's section table: the CSV file `path`
+/// (relative to `base`, the crate root) of body `name`, whose shape has
+/// dimension `dim` (a planar shape bends in x–y only: no `twist`). Every
+/// table runs the varying-section kernels (also one uniform section: a
+/// body of one section is `params`).
+pub fn body_stations(
+    base: &Path,
+    path: &str,
+    name: &str,
+    dim: usize,
+) -> Result<Vec<Station>, Error> {
+    let (table, _) = read_table(&base.join(path), path, name)?;
+    if dim == 2 {
+        if let Some((i, s)) = table
+            .stations
+            .iter()
+            .enumerate()
+            .find(|(_, s)| s.twist != 0.0)
+        {
+            return Err(Error::Scene {
+                location: table.at.clone(),
+                message: format!(
+                    "body `{name}`: station {i} has twist {:?}: a planar shape bends in x–y only, so its sections cannot be twisted",
+                    s.twist
+                ),
+            });
+        }
+    }
+    Ok(table.stations)
+}

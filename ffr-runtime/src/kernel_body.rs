@@ -348,12 +348,19 @@ impl<K: ElementKernels> KernelBody<K> {
         Ok(self)
     }
 
-    /// The body of a generated fixed-mesh type (`#[flex_body]`, `Builder::body`).
+    /// The body of a generated fixed-mesh type (`#[flex_body]`, `Builder::body`):
+    /// its parameters on equal elements, or its baked section table
+    /// ([`CompiledBody::SECTIONS`], [`KernelBody::with_sections`]).
     pub fn compiled<B: CompiledBody<Kernels = K>>(body: &B) -> Result<Self>
     where
         K: Default,
     {
-        Self::new(K::default(), body.params(), B::ELEMENTS, B::REFERENCE)
+        match B::SECTIONS {
+            None => Self::new(K::default(), body.params(), B::ELEMENTS, B::REFERENCE),
+            Some(stations) => {
+                Self::with_sections(K::default(), stations, B::ELEMENTS, None, B::REFERENCE)
+            }
+        }
     }
 
     /// The kernels.

@@ -25,7 +25,13 @@ pub(super) fn sections(
 ) -> Result<(SectionTable, Option<ffr_spec::Params>), Error> {
     let (rows, at, columns) = match v.get_ref() {
         toml::Value::String(path) => {
-            read_csv(&base.join(path), path, name, |m| c.err(v.span(), m))?
+            let file = base.join(path);
+            read_csv(&file, &file.display().to_string(), name, |m| {
+                c.err(
+                    v.span(),
+                    format!("body `{name}`: the section table `{}`: {m}", q(path)),
+                )
+            })?
         }
         toml::Value::Array(items) => inline(c, name, v.span(), items)?,
         other => {
