@@ -462,63 +462,123 @@ fn consistent_element(shape: &Shape, sections: SectionModel) -> Result<ExactInva
     Ok(inv)
 }
 
-/// Lumped element: half of the element's mass `m_e = ρ A l` at each end
-/// (`ξ = 0, 1`, on the centre line), with the shape `N` there:
-/// `S̄ = Σ m_p N_p`, `S̄_kl = Σ m_p N_pkᵀ N_pl`, `Ī_kl = Σ m_p ū₀_pk N_pl`,
-/// `Θ_kl = Σ m_p ū₀_pk ū₀_pl`. Summed over the elements this puts `m_e` on
-/// every inner node and `m_e/2` on the two end nodes, without rotary inertia.
-/// A varying section puts `m_0 = l (μ_{ρA,0} − μ_{ρA,1})` at `ξ = 0` and
-/// `m_1 = l μ_{ρA,1}` at `ξ = 1` instead: the element's mass and its first
-/// moment (so `S_t0`) stay exact, and a uniform section gets halves again.
+/// Lumped element: each end node `p` (`ξ_p = 0, 1`) is a small rigid body,
+/// fixed to the section there, that carries the element's inertia lumped
+/// with the weights `w_0 = 1 − ξ`, `w_1 = ξ` (HRZ-consistent: the halves of
+/// a uniform element, and the element's mass and first moment exact for a
+/// varying one):
+///
+/// - the section at the node: every integrand `F` of the consistent
+///   formalism taken at `ξ_p` and weighed with `∫ρ w_p dV` (uniform:
+///   `ρ (l/2) ∫F dA`): the node's mass `m_p` (`ρ A l/2`) on the centre line
+///   and the sections' rotary inertia (`ρ I_y l/2`, `ρ I_z l/2`, `ρ J l/2`);
+/// - the element's rotational inertia of bending, as the HRZ diagonal
+///   lumping gives it (the consistent rotational diagonal `4 l²·ρAl/420`
+///   scaled by `ρAl / (2·156·ρAl/420)`): `D_p = m_p l²/39` (uniform
+///   `ρ A l³/78`), a spread of the node's mass along the axis whose points
+///   `d_x` from the node move with the axis' slope, `S = N_p + d_x t_p`,
+///   `t_p = ∂(S_y, S_z)/∂x` at the node: `S̄_kl += D_p t_k t_lᵀ`,
+///   `Ī_xl += D_p t_l`, `Θ_xx += D_p`.
+///
+/// So the node's rotations have inertia and a lumped beam integrates
+/// (`docs/theory.md` §7). `S̄ = Σ m_p N_p`, `S_t0` and the total mass are
+/// those of the point masses before.
 fn lumped_element(shape: &Shape, sections: SectionModel) -> Result<ExactInvariants, Error> {
     let n = shape.n_elem();
+    let rows = rows3(shape);
     let centre = centre_rows(shape);
     let l = p(Param::ElemLength);
+    let inv_l = l_pow(-1);
+    let xi = Poly::var(Sym::Xi);
     let mut inv = ExactInvariants::zeros(shape.dimension, n);
-    let ends = match sections {
-        SectionModel::Uniform => {
-            let me = p(Param::Rho).mul(&volume(shape, &Poly::int(1))?);
-            let half = me.scale(&rat(1, 2));
-            inv.mass = me;
-            [half.clone(), half]
-        }
-        SectionModel::Varying => {
-            let (m0, m1) = (mu(SectionProp::RhoA, 0), mu(SectionProp::RhoA, 1));
-            inv.mass = l.mul(&m0);
-            [l.mul(&m0.sub(&m1)), l.mul(&m1)]
-        }
-    };
-    for (xi, half) in [0i64, 1].into_iter().zip(ends) {
-        let at = |f: &Poly| f.substitute(Sym::Xi, &Poly::int(xi));
-        let x = Poly::var(Sym::X0).add(&l.scale(&rat(xi, 1)));
-        let u0 = [x, Poly::zero(), Poly::zero()];
-        let nj: Vec<Vec<Poly>> = (0..3).map(|k| centre[k].iter().map(at).collect()).collect();
+    let u0 = u0(shape);
+    for node in [0i64, 1] {
+        // ∫ρ w_p F(ξ_p) dV: the integrand at the node, weighed.
+        let w = if node == 0 {
+            Poly::int(1).sub(&xi)
+        } else {
+            xi.clone()
+        };
+        let at = |f: &Poly| f.substitute(Sym::Xi, &Poly::int(node));
+        let rho =
+            |f: &Poly, transverse: bool| mass_integral(shape, sections, &at(f).mul(&w), transverse);
+        let m_p = rho(&Poly::int(1), false)?;
+        inv.mass.add_assign(&m_p);
         for k in 0..3 {
-            inv.s_t0[k].add_assign(&half.mul(&u0[k]));
+            inv.s_t0[k].add_assign(&rho(&u0[k], false)?);
             for kk in 0..3 {
-                inv.theta[k][kk].add_assign(&half.mul(&u0[k]).mul(&u0[kk]));
+                inv.theta[k][kk].add_assign(&rho(&u0[k].mul(&u0[kk]), false)?);
             }
             for a in 0..n {
-                if nj[k][a].is_zero() {
-                    continue;
+                inv.s_bar
+                    .get_mut(k, a)
+                    .add_assign(&rho(&rows[k][a], false)?);
+                for ll in 0..3 {
+                    inv.i_kl[k][ll][a].add_assign(&rho(&u0[k].mul(&rows[ll][a]), k > 0 && ll > 0)?);
                 }
-                inv.s_bar.get_mut(k, a).add_assign(&half.mul(&nj[k][a]));
-                for kk in 0..3 {
-                    inv.i_kl[kk][k][a].add_assign(&half.mul(&u0[kk]).mul(&nj[k][a]));
-                }
-                for kk in 0..3 {
+            }
+        }
+        for k in 0..3 {
+            for ll in k..3 {
+                for a in 0..n {
                     for b in 0..n {
-                        if nj[kk][b].is_zero() {
+                        let f = rows[k][a].mul(&rows[ll][b]);
+                        if at(&f).is_zero() {
                             continue;
                         }
-                        let v = half.mul(&nj[k][a]).mul(&nj[kk][b]);
-                        if k == kk {
-                            inv.m_ff.get_mut(a, b).add_assign(&v);
+                        let v = rho(&f, k > 0 && ll > 0)?;
+                        // S̄_lk = S̄_klᵀ; a diagonal block visits (a, b) and (b, a).
+                        inv.s_kl[ll][k].get_mut(b, a).add_assign(&v);
+                        if ll != k {
+                            inv.s_kl[k][ll].get_mut(a, b).add_assign(&v);
                         }
-                        inv.s_kl[k][kk].get_mut(a, b).add_assign(&v);
                     }
                 }
             }
+        }
+        // The element's rotational inertia of bending: D_p t_k t_lᵀ.
+        let d_p = m_p.mul(&l).mul(&l).scale(&rat(1, 39));
+        let slope: Vec<Vec<Poly>> = (0..3)
+            .map(|k| {
+                centre[k]
+                    .iter()
+                    .map(|f| {
+                        if k == 0 {
+                            Poly::zero()
+                        } else {
+                            at(&f.diff(Sym::Xi).mul_monomial(&inv_l))
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        inv.theta[0][0].add_assign(&d_p);
+        for k in 1..3 {
+            for a in 0..n {
+                if slope[k][a].is_zero() {
+                    continue;
+                }
+                inv.i_kl[0][k][a].add_assign(&d_p.mul(&slope[k][a]));
+                for ll in 1..3 {
+                    for b in 0..n {
+                        if slope[ll][b].is_zero() {
+                            continue;
+                        }
+                        inv.s_kl[k][ll]
+                            .get_mut(a, b)
+                            .add_assign(&d_p.mul(&slope[k][a]).mul(&slope[ll][b]));
+                    }
+                }
+            }
+        }
+    }
+    for a in 0..n {
+        for b in 0..n {
+            let mut v = Poly::zero();
+            for k in 0..3 {
+                v.add_assign(inv.s_kl[k][k].get(a, b));
+            }
+            *inv.m_ff.get_mut(a, b) = v;
         }
     }
     Ok(inv)

@@ -452,11 +452,15 @@ fn mass_kernel_matches_quadrature() {
 }
 
 /// Points of a body with their weights `ρ dV` and the element they belong
-/// to: Gauss–Legendre over the prism (consistent) or the element ends on the
-/// axis with half an element's mass each (lumped).
+/// to: Gauss–Legendre over the prism (consistent), or for each element end
+/// (lumped) a rigid body of half the element's mass with the second moments
+/// `diag(m l²/39, ρ I_z l/2, ρ I_y l/2)` (HRZ bending rotational inertia and
+/// the sections' rotary inertia), as points of weight `m/6` at `±a` along
+/// the axes and the rest of the mass at the node; a point `d_x` along the
+/// axis from the node moves with the axis' slope, `N + d_x (0, v', w')`.
 struct Points {
-    /// (element, ξ, η·l, ζ·l, ρ dV)
-    pts: Vec<(usize, f64, f64, f64, f64)>,
+    /// (element, ξ, η·l, ζ·l, ρ dV, d_x)
+    pts: Vec<(usize, f64, f64, f64, f64, f64)>,
 }
 
 fn points(b: &rf::RefBody, f: Formalism) -> Points {
@@ -469,15 +473,29 @@ fn points(b: &rf::RefBody, f: Formalism) -> Points {
                 for &(xi, wx) in &rf::gauss_legendre(4, 0.0, 1.0) {
                     for &(y, wy) in &rf::gauss_legendre(2, -0.5 * p.wy, 0.5 * p.wy) {
                         for &(z, wz) in &rf::gauss_legendre(2, -0.5 * p.wz, 0.5 * p.wz) {
-                            pts.push((e, xi, y, z, p.rho * l * wx * wy * wz));
+                            pts.push((e, xi, y, z, p.rho * l * wx * wy * wz, 0.0));
                         }
                     }
                 }
             }
             Formalism::Lumped => {
-                let half = 0.5 * p.rho * p.area() * l;
-                pts.push((e, 0.0, 0.0, 0.0, half));
-                pts.push((e, 1.0, 0.0, 0.0, half));
+                let m = 0.5 * p.rho * p.area() * l;
+                let mut axes = vec![
+                    (l / 13f64.sqrt(), 0.0, 0.0),
+                    (0.0, (3.0 * p.iz() / p.area()).sqrt(), 0.0),
+                ];
+                if b.shape == rf::Shape::Beam3 {
+                    axes.push((0.0, 0.0, (3.0 * p.iy() / p.area()).sqrt()));
+                }
+                for xi in [0.0, 1.0] {
+                    let mut rest = m;
+                    for &(dx, y, z) in &axes {
+                        pts.push((e, xi, y, z, m / 6.0, dx));
+                        pts.push((e, xi, -y, -z, m / 6.0, -dx));
+                        rest -= m / 3.0;
+                    }
+                    pts.push((e, xi, 0.0, 0.0, rest, 0.0));
+                }
             }
         }
     }
@@ -518,17 +536,24 @@ fn dalembert(
     let mut f_r = Vector3::zeros();
     let mut f_th = Vector3::zeros();
     let mut f_f = DMatrix::zeros(nf, 1);
-    for (e, xi, y, z, wgt) in points(b, f).pts {
+    for (e, xi, y, z, wgt, dx) in points(b, f).pts {
         let map = &maps[e];
         let eta = y / l;
         let zeta = z / l;
-        let s = b.shape.elem_s(l, xi, eta, zeta);
+        let mut s = b.shape.elem_s(l, xi, eta, zeta);
+        if dx != 0.0 {
+            let (_, vp, wp) = b.shape.centerline_grad(l, xi);
+            for c in 0..s.ncols() {
+                s[(1, c)] += dx * vp[c];
+                s[(2, c)] += dx * wp[c];
+            }
+        }
         let g = |v: &[f64]| {
             nalgebra::DVector::from_iterator(map.len(), map.iter().map(|m| m.map_or(0.0, |i| v[i])))
         };
         let (qe, qde, qdde) = (g(q), g(qd), g(qdd));
         let u0 = Vector3::new(
-            e as f64 * l + xi * l,
+            e as f64 * l + xi * l + dx,
             y,
             if b.shape == rf::Shape::Beam3 { z } else { 0.0 },
         );

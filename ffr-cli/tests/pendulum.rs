@@ -36,6 +36,7 @@ fn pendulum(beam: Beam, dt: f64, rho_inf: f64) -> PendulumReport {
         dt,
         method: Method::Alpha,
         rho_inf,
+        ..PendulumArgs::default()
     };
     let r = run(&args).unwrap();
     println!(

@@ -2,9 +2,9 @@
 //! distribution: the mass's centre at the axis point `P` (element
 //! coordinate `ξ`), plus pairs of points `±a e_i` along the principal
 //! directions of its second moments `D` (`D_xx = (J_yy + J_zz − J_xx)/2`, …)
-//! with weights `λ_i / (2 a²)` each, the centre carrying the rest of the mass
-//! (a signed distribution: only its moments of order ≤ 2 matter, and they are
-//! `m`, `0`, `D`). Each point `P + d` moves as the material point of the
+//! with weights `λ_i / (2 a²)` each (`a = √(3 λ_i / m)`: weights `m/6`), the
+//! centre carrying the rest of the mass (signed when `m = 0`: only the
+//! moments of order ≤ 2 matter, and they are `m`, `0`, `D`). Each point `P + d` moves as the material point of the
 //! beam section it is rigidly fixed to: `elem_s(ξ, d_y/l, d_z/l)` (the
 //! section's own Euler–Bernoulli and torsion kinematics) plus, for the
 //! offset along the axis, `d_x (0, v', w')` (the section's bending
@@ -25,7 +25,6 @@ pub fn attached_mass(
     m: f64,
     j: Matrix3<f64>,
 ) -> ElementInvariants {
-    let ne = shape.elem_dofs();
     let planar = shape == Shape::Beam2;
     let d = if planar {
         Matrix3::new(
@@ -52,8 +51,23 @@ pub fn attached_mass(
             0.5 * (j[(0, 0)] + j[(1, 1)] - j[(2, 2)]),
         )
     };
+    rigid_body(shape, x0, l, xi, m, d)
+}
+
+/// The invariants (element coordinates) of a rigid body of mass `m` whose
+/// centre is on the axis at `ξ` of the element `[x₀, x₀ + l]` and whose
+/// mass distribution has the second moments `d` about it (positive
+/// semi-definite), by the discrete distribution of the module documentation.
+pub fn rigid_body(
+    shape: Shape,
+    x0: f64,
+    l: f64,
+    xi: f64,
+    m: f64,
+    d: Matrix3<f64>,
+) -> ElementInvariants {
+    let ne = shape.elem_dofs();
     let eig = SymmetricEigen::new(d);
-    let a = 0.1;
     let mut points: Vec<(Vector3<f64>, f64)> = Vec::new();
     let mut rest = m;
     for i in 0..3 {
@@ -62,6 +76,9 @@ pub fn attached_mass(
             continue;
         }
         let e: Vector3<f64> = eig.eigenvectors.column(i).into();
+        // With mass, weights m/6 at `a = √(3λ/m)` (positive, no
+        // cancellation); without, a signed pair at 0.1 m.
+        let a = if m > 0.0 { (3.0 * lam / m).sqrt() } else { 0.1 };
         let w = lam / (2.0 * a * a);
         points.push((a * e, w));
         points.push((-a * e, w));

@@ -586,49 +586,45 @@ impl RefBody {
         r
     }
 
-    /// Lumped nodes `(m_j, ū₀_j, N_j)`: `m_j` = half of `ρAl` per adjacent element, `ū₀_j = [x_j,0,0]`, `N_j = S(node, η=ζ=0)`.
-    fn lumped_nodes(&self) -> Vec<(f64, Vector3<f64>, Matrix3xX<f64>)> {
+    /// Lumped invariants: node `j` is a rigid body on the axis
+    /// ([`rigid_body`]) of mass `m_j` (half of `ρAl` per adjacent element)
+    /// with second moments `D_j = diag(m_j l²/39, ρ I_z s_j, ρ I_y s_j)`
+    /// (`s_j`: half a length per adjacent element; `l²/39`: the HRZ lumping
+    /// of the bending rotational inertia, `ρAl³/78` per element end), moving
+    /// with the section there; `K_ff` as consistent.
+    pub fn lumped_invariants(&self) -> RefInvariants {
         let l = self.l();
         let full = self.dof_map();
-        let nf = self.nf();
-        let half = 0.5 * self.params.rho * self.params.area() * l;
-        (0..=self.elements)
-            .map(|j| {
-                let mut m = 0.0;
-                if j > 0 {
-                    m += half;
-                }
-                if j < self.elements {
-                    m += half;
-                }
-                let (e, xi) = if j < self.elements {
-                    (j, 0.0)
-                } else {
-                    (j - 1, 1.0)
-                };
-                let s = self.shape.elem_s(l, xi, 0.0, 0.0);
-                let mut n = Matrix3xX::zeros(nf);
-                Self::scatter_cols(&self.elem_map(&full, e), &s, &mut n);
-                (m, Vector3::new(j as f64 * l, 0.0, 0.0), n)
-            })
-            .collect()
-    }
-
-    /// Lumped invariants: `m = Σm_j`, `S_t0 = Σm_j ū₀_j`, `S̄ = Σm_j N_j`, `S̄_kl = Σm_j N_jkᵀN_jl`,
-    /// `Ī_kl = Σm_j ū₀_jk N_jl`, `Θ_kl = Σm_j ū₀_jk ū₀_jl`; `K_ff` as consistent.
-    pub fn lumped_invariants(&self) -> RefInvariants {
+        let p = self.params;
+        let planar = self.shape == Shape::Beam2;
         let mut r = self.empty_invariants();
-        for (m, u0, n) in self.lumped_nodes() {
-            r.mass += m;
-            r.s_t0 += m * u0;
-            r.s_bar += m * &n;
-            r.theta += m * u0 * u0.transpose();
+        for j in 0..=self.elements {
+            let s = if j == 0 || j == self.elements {
+                0.5 * l
+            } else {
+                l
+            };
+            let m = p.rho * p.area() * s;
+            let d = Matrix3::from_diagonal(&Vector3::new(
+                m * l * l / 39.0,
+                p.rho * p.iz() * s,
+                if planar { 0.0 } else { p.rho * p.iy() * s },
+            ));
+            let (e, xi) = if j < self.elements {
+                (j, 0.0)
+            } else {
+                (j - 1, 1.0)
+            };
+            let ei = rigid_body(self.shape, e as f64 * l, l, xi, m, d);
+            let map = self.elem_map(&full, e);
+            r.mass += ei.mass;
+            r.s_t0 += ei.s_t0;
+            r.theta += ei.theta;
+            Self::scatter_cols(&map, &ei.s_bar, &mut r.s_bar);
             for k in 0..3 {
-                let nk = n.row(k).transpose();
-                for l in 0..3 {
-                    let nl = n.row(l);
-                    r.s_kl[k][l] += m * &nk * nl;
-                    r.i_kl[k][l] += (m * u0[k]) * nl.transpose();
+                for ll in 0..3 {
+                    Self::scatter_mat(&map, &ei.s_kl[k][ll], &mut r.s_kl[k][ll]);
+                    Self::scatter_vec(&map, &ei.i_kl[k][ll], &mut r.i_kl[k][ll]);
                 }
             }
         }
@@ -681,7 +677,7 @@ impl RefBody {
 
 mod attached;
 mod stiffening;
-pub use attached::attached_mass;
+pub use attached::{attached_mass, rigid_body};
 pub mod varying;
 pub use stiffening::{StiffeningEnergy, StiffeningModel, N_BEND, N_MEAN};
 

@@ -15,7 +15,7 @@ pub enum Error {
     #[error("invalid input: {0}")]
     InvalidInput(String),
     /// The (augmented) system matrix could not be factorized.
-    #[error("singular {what} at t = {t} s ({detail}): check for redundant or missing constraints and for coordinates without inertia (a `free` reference body, a body with no mass, a lumped body whose nodes have no rotary inertia)")]
+    #[error("singular {what} at t = {t} s ({detail}): check for redundant or missing constraints and for coordinates without inertia (a `free` reference body, a body with no mass, a user shape whose coordinates carry no mass)")]
     Singular {
         /// Which matrix.
         what: &'static str,

@@ -4,7 +4,7 @@
 //! A [`ModalBody`] evaluates the body-frame equations of [`crate::body`]
 //! from the projected invariants `S̄Φ`, `Φᵀ S̄_kl Φ`, `Ī_kl Φ`, `Φᵀ m_ff Φ`
 //! (`m`, `S_t0`, `Θ_kl` unchanged), with `η` in place of `q_f`: the equations
-//! of [`crate::inertia`], with their derivatives written out. The elastic
+//! of `ffr-runtime/src/inertia.rs`, with their derivatives written out. The elastic
 //! force is `Φᵀ K_ff Φ η` for a linear body; with geometric stiffening it is
 //! the full body's, `Φᵀ (K_ff q_f + ∇U_nl(q_f))` at `q_f = Φ η`, from the full
 //! body's element kernels (its few scalars per element and their chain

@@ -23,7 +23,7 @@
 use clap::{Args, ValueEnum};
 use ffr::kernels::{BeamSpec, Kernels};
 use ffr::runtime::nalgebra::Vector3;
-use ffr::runtime::spec::{KernelOptions, Params, Reference};
+use ffr::runtime::spec::{Formalism, KernelOptions, Params, Reference};
 use ffr::runtime::{
     Body, BodyId, GeneralizedAlpha, Integrator, KernelBody, Marker, Pose, Rk4Baumgarte, StepView,
     System,
@@ -150,6 +150,10 @@ pub struct PendulumArgs {
     /// dissipation; lower values damp the unresolved high modes).
     #[arg(long, default_value_t = 1.0)]
     pub rho_inf: f64,
+    /// Inertia formalism of the bar: consistent or lumped (nodal masses
+    /// with HRZ rotary inertia).
+    #[arg(long, value_enum, default_value_t = Formalism::Consistent)]
+    pub formalism: Formalism,
 }
 
 impl Default for PendulumArgs {
@@ -161,6 +165,7 @@ impl Default for PendulumArgs {
             dt: 1e-3,
             method: Method::Alpha,
             rho_inf: 1.0,
+            formalism: Formalism::Consistent,
         }
     }
 }
@@ -233,14 +238,14 @@ pub fn system_with(
     args: &PendulumArgs,
     params: Params,
 ) -> Result<BeamScene, Box<dyn std::error::Error>> {
-    let body = beam_spec(
+    let mut spec = beam_spec(
         args.beam,
         args.elements as usize,
         Reference::Clamped,
         params,
-    )
-    .body()?;
-    scene(body)
+    );
+    spec.options.formalism = args.formalism;
+    scene(spec.body()?)
 }
 
 /// `‖Φ‖∞` and `‖Φ_q q̇ + Φ_t‖∞` at the state of `view`, using caller-owned
