@@ -186,13 +186,16 @@ pub fn null_space_basis(phi_q: &DMatrix<f64>) -> (DMatrix<f64>, Vec<usize>) {
     (basis, ind)
 }
 
-/// The eigenvalues of `a`, sorted by modulus, then imaginary part
-/// (a conjugate pair: negative first). Empty for an empty matrix.
+/// The eigenvalues of `a` (real Schur form after balancing: a diagonal
+/// similarity by powers of two that equalizes row and column norms, as
+/// LAPACK's `dgebal`, so that the slow modes of a stiff model keep their
+/// relative accuracy), sorted by modulus, then imaginary part (a conjugate
+/// pair: negative first). Empty for an empty matrix.
 pub fn eigenvalues(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
     if a.nrows() == 0 {
         return Vec::new();
     }
-    let mut ev: Vec<Complex<f64>> = a.clone().complex_eigenvalues().iter().copied().collect();
+    let mut ev: Vec<Complex<f64>> = balance(a).complex_eigenvalues().iter().copied().collect();
     ev.sort_by(|x, y| {
         x.norm()
             .total_cmp(&y.norm())
@@ -200,6 +203,52 @@ pub fn eigenvalues(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
             .then(x.re.total_cmp(&y.re))
     });
     ev
+}
+
+/// `D⁻¹ A D` with `D` diagonal, powers of two, chosen (Parlett & Reinsch)
+/// until no row and column norm pair changes by more than a factor 0.95.
+pub fn balance(a: &DMatrix<f64>) -> DMatrix<f64> {
+    let mut b = a.clone();
+    let n = b.nrows();
+    for _ in 0..100 {
+        let mut done = true;
+        for i in 0..n {
+            let (mut c, mut r) = (0.0, 0.0);
+            for j in 0..n {
+                if j != i {
+                    c += b[(j, i)].abs();
+                    r += b[(i, j)].abs();
+                }
+            }
+            if c == 0.0 || r == 0.0 {
+                continue;
+            }
+            let s = c + r;
+            let mut f = 1.0;
+            let (mut cc, mut rr) = (c, r);
+            while cc < rr / 2.0 {
+                cc *= 2.0;
+                rr /= 2.0;
+                f *= 2.0;
+            }
+            while cc >= rr * 2.0 {
+                cc /= 2.0;
+                rr *= 2.0;
+                f /= 2.0;
+            }
+            if (cc + rr) < 0.95 * s {
+                done = false;
+                for j in 0..n {
+                    b[(i, j)] /= f;
+                    b[(j, i)] *= f;
+                }
+            }
+        }
+        if done {
+            break;
+        }
+    }
+    b
 }
 
 /// Linearize `sys` about `state` (consistent: the residual vanishes) with
