@@ -378,6 +378,17 @@ pub fn campbell(
             .into())
         }
     };
+    if let Some((g, gat)) = &spec.gravity {
+        if g[0] != 0.0 || g[1] != 0.0 {
+            return Err(crate::SceneError {
+                location: Some(gat.clone()),
+                message: format!(
+                    "gravity {g:?} is not along the rotation axis (global z): it turns with the rotor in the rotating frame, so there is no steady state to linearize about"
+                ),
+            }
+            .into());
+        }
+    }
     let (profile, at) = j.drive.clone().expect("driven");
     let start = match profile {
         ProfileSpec::SpinUp { start, .. }
