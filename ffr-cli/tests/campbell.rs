@@ -417,7 +417,7 @@ fn no_steady_state_is_an_error() {
 /// 1.5 m) up to its rated 12.1 rpm: its first flap, edge (lag) and second
 /// flap frequencies rise with the speed, along Southwell's
 /// `ω² = ω₀² + K Ω²` (the coefficient `K` from half and full speed agrees
-/// to 3%; measured 0.8% for the first flap), flap more than edge (the edge
+/// to 3%; measured 0.9% for the first flap), flap more than edge (the edge
 /// loses `Ω²` to the in-plane term). The diagram is `docs/campbell_5mw.svg`.
 #[test]
 fn nrel_5mw_blade_stiffens_as_southwell_predicts() {

@@ -24,7 +24,7 @@ pub struct LinearizeArgs {
     /// every motor joint and point force or torque.
     #[arg(long, value_delimiter = ',')]
     pub inputs: Option<Vec<String>>,
-    /// Outputs, comma-separated names of the scene's [[outputs]]; default:
+    /// Outputs, comma-separated names of the scene's `[[outputs]]`; default:
     /// all but the energies.
     #[arg(long, value_delimiter = ',')]
     pub outputs: Option<Vec<String>>,
@@ -45,7 +45,7 @@ pub struct CampbellArgs {
     /// Rotor speeds Ω (rad/s), comma-separated.
     #[arg(long, value_delimiter = ',', required = true)]
     pub speeds: Vec<f64>,
-    /// The driven revolute joint (1-based in [[joints]]; default the first
+    /// The driven revolute joint (1-based in `[[joints]]`; default the first
     /// revolute joint with a drive).
     #[arg(long)]
     pub joint: Option<usize>,
@@ -235,7 +235,6 @@ fn print_summary(scene: &Path, m: &LinearModel) -> Result<(), Box<dyn Error>> {
 pub fn campbell_json(c: &Campbell) -> Value {
     json!({
         "speeds": c.speeds,
-        "joint": c.joint + 1,
         "modes": c.modes.iter().map(|ms| ms.iter().map(|m| json!({
             "omega": m.omega,
             "hz": m.hz,
