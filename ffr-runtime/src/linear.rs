@@ -24,7 +24,11 @@
 //! ```
 //!
 //! `Q_u` the generalized force of a unit input, `G_q`, `G_v` the
-//! derivatives of an output by the free coordinates and velocities. The
+//! derivatives of an output by the free coordinates and velocities. A drive
+//! input `u = s̈` perturbs the driver of a driving constraint row `k`:
+//! `δq = N z + P s` with `Φ_q P = e_k` (`P` on the dependent coordinates),
+//! `s`, `ṡ` join the states, and `M̂ z̈ + Ĉ ż + K̂ z = −Nᵀ(K P s + C P ṡ +
+//! M P u)`. The
 //! basis is frozen at the state (`Ṅ z` is left out): exact about a state
 //! at rest, and about a steady rotation whose joints' Jacobian does not
 //! change along the motion in the independent directions (a body clamped to
@@ -41,14 +45,30 @@ use crate::system::System;
 use ffr_spec::scene::OutputKind;
 use nalgebra::{Complex, DMatrix, DVector};
 
-/// An input of a linear model: a force element whose load at `u = 1` is
-/// the input's unit (a unit torque, a unit force along a direction).
+/// An input of a linear model.
 #[derive(Clone, Debug)]
 pub struct LinearInput {
     /// Its name.
     pub name: String,
-    /// The load at `u = 1`.
-    pub load: ForceElement,
+    /// What it does.
+    pub load: InputLoad,
+}
+
+/// What an input does.
+#[derive(Clone, Debug)]
+pub enum InputLoad {
+    /// A force element whose load at `u = 1` is the input's unit (a unit
+    /// torque, a unit force along a direction).
+    Force(Box<ForceElement>),
+    /// The acceleration `u = s̈` of a perturbation `s` of the driver of a
+    /// driving constraint (index into
+    /// [`System::constraints`](crate::System::constraints); its row `k` is
+    /// `g(q) − f(t)`, or `sin(φ − f)` for an angle): `s` and `ṡ` become
+    /// states, `Φ_q δq = s e_k`.
+    Drive {
+        /// The driving constraint (one row).
+        constraint: usize,
+    },
 }
 
 /// An output of a linear model: what a scene's output column records.
@@ -69,13 +89,14 @@ pub struct LinearOutput {
 pub struct LinearModel {
     /// The state it was taken about.
     pub state: State,
-    /// State labels: the independent coordinates, then their rates (`…_dot`).
+    /// State labels: the independent coordinates and the drive inputs'
+    /// perturbations, then their rates (`…_dot`).
     pub states: Vec<String>,
     /// Input names.
     pub inputs: Vec<String>,
     /// Output names.
     pub outputs: Vec<String>,
-    /// `A` (2n_z × 2n_z).
+    /// `A` (2(n_z + drives) square).
     pub a: DMatrix<f64>,
     /// `B` (2n_z × inputs).
     pub b: DMatrix<f64>,
@@ -87,6 +108,9 @@ pub struct LinearModel {
     pub independent: Vec<usize>,
     /// The null-space basis `N` (free coordinates × independent).
     pub basis: DMatrix<f64>,
+    /// The drive inputs' particular solutions `P` (free coordinates ×
+    /// drives, `Φ_q P = e_k`).
+    pub drive_basis: DMatrix<f64>,
     /// The projected mass `M̂ = NᵀMN`.
     pub m_hat: DMatrix<f64>,
     /// The projected damping and gyroscopic matrix `Ĉ = NᵀCN`.
@@ -126,6 +150,22 @@ pub fn coordinate_labels<B: Body>(sys: &System<B>) -> Vec<String> {
 /// coordinates; returns the null-space basis `N = [−Φ_d⁻¹ Φ_z; I]`
 /// (columns × independent) and the independent columns.
 pub fn null_space_basis(phi_q: &DMatrix<f64>) -> (DMatrix<f64>, Vec<usize>) {
+    let p = partition(phi_q);
+    (p.basis, p.independent)
+}
+
+/// A coordinate partitioning of `Φ_q`.
+struct Partition {
+    basis: DMatrix<f64>,
+    independent: Vec<usize>,
+    dependent: Vec<usize>,
+    /// The rows the dependent coordinates are solved from.
+    rows: Vec<usize>,
+    /// `Φ_d` (rows × dependent), factored.
+    phi_d: nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+}
+
+fn partition(phi_q: &DMatrix<f64>) -> Partition {
     let (m, n) = phi_q.shape();
     let mut a = phi_q.clone();
     let scale = a.amax();
@@ -168,10 +208,9 @@ pub fn null_space_basis(phi_q: &DMatrix<f64>) -> (DMatrix<f64>, Vec<usize>) {
     let used: Vec<usize> = rows[..rank].to_vec();
     let phi_d = DMatrix::from_fn(rank, rank, |i, j| phi_q[(used[i], dep[j])]);
     let phi_z = DMatrix::from_fn(rank, ind.len(), |i, j| phi_q[(used[i], ind[j])]);
+    let lu = phi_d.lu();
     let x = if rank > 0 {
-        phi_d
-            .lu()
-            .solve(&phi_z)
+        lu.solve(&phi_z)
             .unwrap_or_else(|| DMatrix::zeros(rank, ind.len()))
     } else {
         DMatrix::zeros(0, ind.len())
@@ -183,7 +222,13 @@ pub fn null_space_basis(phi_q: &DMatrix<f64>) -> (DMatrix<f64>, Vec<usize>) {
             basis[(d, j)] = -x[(i, j)];
         }
     }
-    (basis, ind)
+    Partition {
+        basis,
+        independent: ind,
+        dependent: dep,
+        rows: used,
+        phi_d: lu,
+    }
 }
 
 /// The eigenvalues of `a` (real Schur form after balancing: a diagonal
@@ -252,7 +297,11 @@ pub fn balance(a: &DMatrix<f64>) -> DMatrix<f64> {
 }
 
 /// Linearize `sys` about `state` (consistent: the residual vanishes) with
-/// `inputs` and `outputs` (module documentation). Allocates.
+/// `inputs` and `outputs` (module documentation). A drive input adds the
+/// driver's perturbation `s` and its rate to the states (after the
+/// independent coordinates and after their rates): with `P` the particular
+/// solution of `Φ_q P = e_k` on the dependent coordinates,
+/// `δq = N z + P s`, and `s̈ = u`. Allocates.
 pub fn linearize<B: Body>(
     sys: &System<B>,
     state: &State,
@@ -262,9 +311,61 @@ pub fn linearize<B: Body>(
     let mut asm = Assembly::new(sys)?;
     let (t, q, v) = (state.t, &state.q, &state.v);
     let parts = asm.tangent_parts(t, q, v, &state.a, &state.lambda);
-    let (basis, ind_local) = null_space_basis(&parts.phi_q);
-    let independent: Vec<usize> = ind_local.iter().map(|&j| parts.free[j]).collect();
+    let part = partition(&parts.phi_q);
+    let independent: Vec<usize> = part.independent.iter().map(|&j| parts.free[j]).collect();
     let nz = independent.len();
+    let nu = parts.free.len();
+    // Drive inputs: their rows and particular solutions P.
+    let joint_rows: usize = sys.constraints().iter().map(|c| c.rows.len()).sum();
+    let n_norm = asm.m - joint_rows;
+    let mut drives: Vec<(usize, DVector<f64>)> = Vec::new();
+    for (k, inp) in inputs.iter().enumerate() {
+        let InputLoad::Drive { constraint } = inp.load else {
+            continue;
+        };
+        let c = sys.constraints().get(constraint).ok_or_else(|| {
+            Error::InvalidInput(format!("input `{}`: no constraint {constraint}", inp.name))
+        })?;
+        if c.rows.len() != 1 {
+            return Err(Error::InvalidInput(format!(
+                "input `{}`: constraint {constraint} ({}) has {} rows, a drive has one",
+                inp.name,
+                c.kind,
+                c.rows.len()
+            )));
+        }
+        let row = n_norm
+            + sys.constraints()[..constraint]
+                .iter()
+                .map(|c| c.rows.len())
+                .sum::<usize>();
+        let Some(i) = part.rows.iter().position(|&r| r == row) else {
+            return Err(Error::InvalidInput(format!(
+                "input `{}`: the {} row is redundant with the other joints at t = {t}",
+                inp.name, c.kind
+            )));
+        };
+        let mut e = DVector::zeros(part.rows.len());
+        e[i] = 1.0;
+        let pd = part
+            .phi_d
+            .solve(&e)
+            .ok_or_else(|| Error::InvalidInput(format!("input `{}`: singular joints", inp.name)))?;
+        let mut pv = DVector::zeros(nu);
+        for (j, &d) in part.dependent.iter().enumerate() {
+            pv[d] = pd[j];
+        }
+        drives.push((k, pv));
+    }
+    let nd = drives.len();
+    let np = nz + nd;
+    // Z = [N, P]: the free coordinates of the position states.
+    let mut zb = DMatrix::zeros(nu, np);
+    zb.view_mut((0, 0), (nu, nz)).copy_from(&part.basis);
+    for (j, (_, pv)) in drives.iter().enumerate() {
+        zb.set_column(nz + j, pv);
+    }
+    let basis = part.basis;
     let nt = basis.transpose();
     let m_hat = &nt * &parts.m * &basis;
     let c_hat = &nt * &parts.c * &basis;
@@ -276,34 +377,46 @@ pub fn linearize<B: Body>(
             "the projected mass matrix NᵀMN ({nz}×{nz}) is singular at t = {t}: a coordinate without inertia"
         ))
     };
-    let minv_k = lu.solve(&k_hat).ok_or_else(singular)?;
-    let minv_c = lu.solve(&c_hat).ok_or_else(singular)?;
-    let mut a = DMatrix::zeros(2 * nz, 2 * nz);
+    let minv_k = lu.solve(&(&nt * &parts.k * &zb)).ok_or_else(singular)?;
+    let minv_c = lu.solve(&(&nt * &parts.c * &zb)).ok_or_else(singular)?;
+    let mut a = DMatrix::zeros(2 * np, 2 * np);
+    for i in 0..np {
+        a[(i, np + i)] = 1.0;
+    }
     for i in 0..nz {
-        a[(i, nz + i)] = 1.0;
-        for j in 0..nz {
-            a[(nz + i, j)] = -minv_k[(i, j)];
-            a[(nz + i, nz + j)] = -minv_c[(i, j)];
+        for j in 0..np {
+            a[(np + i, j)] = -minv_k[(i, j)];
+            a[(np + i, np + j)] = -minv_c[(i, j)];
         }
     }
-    // Inputs: the generalized force of each unit load.
-    let mut b = DMatrix::zeros(2 * nz, inputs.len());
+    // Inputs: the generalized force of each unit load, or the inertia of a
+    // drive's acceleration.
+    let mut b = DMatrix::zeros(2 * np, inputs.len());
     for (k, inp) in inputs.iter().enumerate() {
-        let qf = asm.generalized_force(&inp.load, t, q, v);
-        let qfree = DVector::from_iterator(parts.free.len(), parts.free.iter().map(|&c| qf[c]));
-        let rhs = &nt * qfree;
+        let rhs = match &inp.load {
+            InputLoad::Force(fe) => {
+                let qf = asm.generalized_force(fe, t, q, v);
+                let qfree = DVector::from_iterator(nu, parts.free.iter().map(|&c| qf[c]));
+                &nt * qfree
+            }
+            InputLoad::Drive { .. } => {
+                let j = drives.iter().position(|(i, _)| *i == k).expect("a drive");
+                b[(np + nz + j, k)] = 1.0;
+                -(&nt * (&parts.m * &drives[j].1))
+            }
+        };
         let col = lu.solve(&rhs).ok_or_else(singular)?;
         for i in 0..nz {
-            b[(nz + i, k)] = col[i];
+            b[(np + i, k)] = col[i];
         }
     }
     // Outputs: derivatives by the free coordinates and velocities.
-    let nu = parts.free.len();
     let mut slot = vec![usize::MAX; sys.n_coords()];
     for (i, &c) in parts.free.iter().enumerate() {
         slot[c] = i;
     }
-    let mut c = DMatrix::zeros(outputs.len(), 2 * nz);
+    let zt = zb.transpose();
+    let mut c = DMatrix::zeros(outputs.len(), 2 * np);
     for (k, out) in outputs.iter().enumerate() {
         let (gq, gv) = output_gradient(sys, out, q, v)?;
         let mut gq_free = DVector::zeros(nu);
@@ -314,16 +427,19 @@ pub fn linearize<B: Body>(
                 gv_free[slot[g]] += dv;
             }
         }
-        let rq = &nt * gq_free;
-        let rv = &nt * gv_free;
-        for j in 0..nz {
+        let rq = &zt * gq_free;
+        let rv = &zt * gv_free;
+        for j in 0..np {
             c[(k, j)] = rq[j];
-            c[(k, nz + j)] = rv[j];
+            c[(k, np + j)] = rv[j];
         }
     }
     let d = DMatrix::zeros(outputs.len(), inputs.len());
-    let mut states: Vec<String> = independent.iter().map(|&g| labels[g].clone()).collect();
-    states.extend(independent.iter().map(|&g| format!("{}_dot", labels[g])));
+    let mut pos: Vec<String> = independent.iter().map(|&g| labels[g].clone()).collect();
+    pos.extend(drives.iter().map(|(k, _)| inputs[*k].name.clone()));
+    let mut states = pos.clone();
+    states.extend(pos.iter().map(|l| format!("{l}_dot")));
+    let drive_basis = DMatrix::from_fn(nu, nd, |i, j| drives[j].1[i]);
     Ok(LinearModel {
         state: state.clone(),
         states,
@@ -335,6 +451,7 @@ pub fn linearize<B: Body>(
         d,
         independent,
         basis,
+        drive_basis,
         m_hat,
         c_hat,
         k_hat,

@@ -5,7 +5,9 @@
 //!   revolute joint whose angle is not prescribed): a torque about the
 //!   joint's axis on `b` (`−τ` on `a`), N m; `forceN` (the `N`-th
 //!   `[[forces]]` entry): a point force's magnitude along its direction
-//!   (global, or the body's for a follower force), N, or a torque's, N m.
+//!   (global, or the body's for a follower force), N, or a torque's, N m;
+//!   `driveN`: the acceleration (rad/s², m/s²) of a perturbation of joint
+//!   `N`'s drive, whose angle (or slide) and rate become states.
 //!   By default every joint with a motor and every point force and torque.
 //! - Outputs: the scene's `[[outputs]]` by name; by default all but the
 //!   energies (which are not linear outputs).
@@ -17,10 +19,14 @@
 //!   frame (Newton on the residual) and the eigenvalues about it.
 
 use crate::runtime::linear::{
-    eigenvalues, linearize, steady_state, LinearInput, LinearModel, LinearOutput, SteadyMotion,
+    eigenvalues, linearize, steady_state, InputLoad, LinearInput, LinearModel, LinearOutput,
+    SteadyMotion,
 };
 use crate::runtime::nalgebra::{Complex, DMatrix, DVector, Vector3};
-use crate::runtime::spec::scene::{ForceKind, JointKind, MarkerPoint, ProfileSpec, SceneSpec};
+use crate::runtime::spec::scene::{
+    BodyKind, ForceKind, JointKind, MarkerPoint, ProfileSpec, SceneSpec,
+};
+use crate::runtime::spec::FrameModel;
 use crate::runtime::{ForceAxes, ForceElement, State, TorqueLaw};
 use crate::scene::model::{OutputKind, Scene};
 use crate::scene::provider::KernelProvider;
@@ -73,7 +79,22 @@ pub fn inputs(
     let avail = || default_inputs(spec).join(", ");
     let mut out = Vec::new();
     for name in names {
-        let load = if let Some(k) = index_of(name, "joint") {
+        let load = if let Some(k) = index_of(name, "drive") {
+            let j = spec.joints.get(k - 1).ok_or_else(|| {
+                format!("input `{name}`: the scene has {} joints", spec.joints.len())
+            })?;
+            if j.drive.is_none() {
+                return Err(
+                    format!("input `{name}`: joint {k} ({}) has no drive", j.b.text).into(),
+                );
+            }
+            let constraint = drive_constraint(spec, k - 1).ok_or_else(|| {
+                format!(
+                    "input `{name}`: joint {k}'s drive is folded into prescribed coordinates; linearize the scene through `linearize_scene`, which unfolds it"
+                )
+            })?;
+            InputLoad::Drive { constraint }
+        } else if let Some(k) = index_of(name, "joint") {
             let j = spec.joints.get(k - 1).ok_or_else(|| {
                 format!("input `{name}`: the scene has {} joints", spec.joints.len())
             })?;
@@ -86,16 +107,16 @@ pub fn inputs(
                 .into());
             }
             let a = j.a.as_ref().ok_or("a revolute joint has two markers")?;
-            ForceElement::Torque {
+            InputLoad::Force(Box::new(ForceElement::Torque {
                 a: super::build::marker(sys, a)?,
                 b: super::build::marker(sys, &j.b)?,
                 law: TorqueLaw::Torque(Arc::new(|_| 1.0)),
-            }
+            }))
         } else if let Some(k) = index_of(name, "force") {
             let f = spec.forces.get(k - 1).ok_or_else(|| {
                 format!("input `{name}`: the scene has {} forces", spec.forces.len())
             })?;
-            match &f.kind {
+            InputLoad::Force(Box::new(match &f.kind {
                 ForceKind::Point {
                     at,
                     force,
@@ -124,10 +145,10 @@ pub fn inputs(
                     )
                     .into())
                 }
-            }
+            }))
         } else {
             return Err(format!(
-                "unknown input `{name}`: inputs are `jointN` (a torque in revolute joint N) and `forceN` (the amplitude of force N); this scene's are: {}",
+                "unknown input `{name}`: inputs are `jointN` (a torque in revolute joint N), `forceN` (the amplitude of force N) and `driveN` (the acceleration of joint N's drive); this scene's defaults are: {}",
                 avail()
             )
             .into());
@@ -138,6 +159,26 @@ pub fn inputs(
         });
     }
     Ok(out)
+}
+
+/// The system constraint of joint `ji`'s drive (0-based in `[[joints]]`),
+/// as the builder adds them: a ground or folded joint none, any other its
+/// own and then its drive's.
+fn drive_constraint(spec: &SceneSpec, ji: usize) -> Option<usize> {
+    let mut c = 0;
+    for (i, j) in spec.joints.iter().enumerate() {
+        if j.kind == JointKind::Ground || j.folds.is_some() {
+            if i == ji {
+                return None;
+            }
+            continue;
+        }
+        if i == ji {
+            return j.drive.as_ref().map(|_| c + 1);
+        }
+        c += 1 + usize::from(j.drive.is_some());
+    }
+    None
 }
 
 /// The outputs a scene offers by default: every output but the energies.
@@ -198,24 +239,43 @@ pub fn operating_state(scene: &Scene, at: At) -> crate::Result<State> {
     }
 }
 
-/// Linearize `scene` (built from `spec`) at `at` with the named inputs and
-/// outputs (`None`: the defaults).
+/// Linearize the scene `spec` at `at` with the named inputs and outputs
+/// (`None`: the defaults), its flexible bodies' kernels from `provider`. A
+/// drive input on a joint the reader folded into prescribed coordinates
+/// (a revolute joint to the ground at a body's frame origin) unfolds it
+/// into a revolute joint and a driving constraint, whose driver the input
+/// perturbs (the same motion, the same eigenvalues, two more states).
 pub fn linearize_scene(
     spec: &SceneSpec,
-    scene: &Scene,
+    provider: &dyn KernelProvider,
     at: At,
     input_names: Option<&[String]>,
     output_names: Option<&[String]>,
 ) -> crate::Result<LinearModel> {
-    let ins = match input_names {
-        Some(n) => inputs(spec, scene, n)?,
-        None => inputs(spec, scene, &default_inputs(spec))?,
-    };
+    let default_in = default_inputs(spec);
+    let names = input_names.unwrap_or(&default_in);
+    let mut spec = spec.clone();
+    for n in names {
+        if let Some(k) = index_of(n, "drive") {
+            let Some(j) = spec.joints.get_mut(k - 1) else {
+                continue;
+            };
+            if let (Some(b), Some(_)) = (j.folds, &j.drive) {
+                j.folds = None;
+                // The body's frame is free now: the general kernels.
+                if let BodyKind::Flexible(f) = &mut spec.bodies[b].kind {
+                    f.options.frame = FrameModel::Free;
+                }
+            }
+        }
+    }
+    let scene = super::build(&spec, provider)?;
+    let ins = inputs(&spec, &scene, names)?;
     let outs = match output_names {
-        Some(n) => outputs(scene, n)?,
-        None => outputs(scene, &default_outputs(scene))?,
+        Some(n) => outputs(&scene, n)?,
+        None => outputs(&scene, &default_outputs(&scene))?,
     };
-    let state = operating_state(scene, at)?;
+    let state = operating_state(&scene, at)?;
     Ok(linearize(&scene.system, &state, &ins, &outs)?)
 }
 

@@ -20,8 +20,9 @@ pub struct LinearizeArgs {
     #[arg(long, default_value = "0")]
     pub at: String,
     /// Inputs, comma-separated: `jointN` (a torque in the N-th revolute
-    /// joint, 1-based), `forceN` (the amplitude of the N-th force); default:
-    /// every motor joint and point force or torque.
+    /// joint, 1-based), `forceN` (the amplitude of the N-th force), `driveN`
+    /// (the acceleration of the N-th joint's drive; its angle and rate
+    /// become states); default: every motor joint and point force or torque.
     #[arg(long, value_delimiter = ',')]
     pub inputs: Option<Vec<String>>,
     /// Outputs, comma-separated names of the scene's `[[outputs]]`; default:
@@ -129,10 +130,9 @@ pub fn linearize(args: &LinearizeArgs) -> Result<LinearModel, Box<dyn Error>> {
         }
     }
     let spec = ffr::scene::load::load_spec(&args.scene)?;
-    let scene = ffr::scene::build(&spec, &ffr::scene::DefaultKernels)?;
     let model = linearize_scene(
         &spec,
-        &scene,
+        &ffr::scene::DefaultKernels,
         at,
         args.inputs.as_deref(),
         args.outputs.as_deref(),
@@ -197,11 +197,12 @@ fn write_dir(dir: &Path, m: &LinearModel, js: &Value) -> Result<(), Box<dyn Erro
 fn print_summary(scene: &Path, m: &LinearModel) -> Result<(), Box<dyn Error>> {
     let nz = m.independent.len();
     crate::outln!(
-        "{}: linear model at t = {} with {} states ({} independent coordinates and their rates), {} inputs, {} outputs",
+        "{}: linear model at t = {} with {} states ({} independent coordinates, {} drive perturbations, and their rates), {} inputs, {} outputs",
         scene.display(),
         m.state.t,
-        2 * nz,
+        m.states.len(),
         nz,
+        m.drive_basis.ncols(),
         m.inputs.len(),
         m.outputs.len()
     )?;
