@@ -164,11 +164,8 @@ b = "beam"
 }
 
 /// The first mode labelled `label` at speed index `i` (at rest, flap and
-/// lag are one double frequency: the lowest).
+/// lag are one double frequency, and its two modes get the two labels).
 fn first(c: &Campbell, i: usize, label: &str) -> f64 {
-    if c.speeds[i] == 0.0 {
-        return c.modes[i][0].omega;
-    }
     c.modes[i]
         .iter()
         .find(|m| m.label == label)

@@ -312,11 +312,16 @@ fn motion_kind(label: &str) -> String {
 /// The modes of a linear model, one per oscillating pair (and each real
 /// eigenvalue), lowest `|λ|` first, at most `count`, labelled by the
 /// kinetic-energy participation `Re(q̄_i (M q)_i)` of each coordinate kind
-/// in the eigenvector (inverse iteration on `λ²M̂ + λĈ + K̂`).
+/// in the eigenvector (inverse iteration on `λ²M̂ + λĈ + K̂`; the modes of
+/// a repeated eigenvalue `M̂`-orthogonal to each other).
 pub fn modes(sys_labels: &[String], model: &LinearModel, count: usize) -> Vec<CampbellMode> {
     let ev = eigenvalues(&model.a);
     let nz = model.independent.len();
     let mut out = Vec::new();
+    // The eigenvectors of the current cluster of equal eigenvalues (a double
+    // frequency: each vector is kept M̂-orthogonal to the earlier ones, so
+    // that the two modes of a pair get their two motions).
+    let mut cluster: Vec<(Complex<f64>, DVector<Complex<f64>>)> = Vec::new();
     for l in ev {
         if out.len() >= count {
             break;
@@ -325,7 +330,9 @@ pub fn modes(sys_labels: &[String], model: &LinearModel, count: usize) -> Vec<Ca
         if l.im < -1e-9 * w {
             continue; // the conjugate of a pair
         }
-        let label = mode_label(sys_labels, model, nz, l);
+        cluster.retain(|(m, _)| (m - l).norm() <= 1e-6 * (1.0 + w));
+        let (label, z) = mode_label(sys_labels, model, nz, l, &cluster);
+        cluster.push((l, z));
         out.push(CampbellMode {
             omega: w,
             hz: w / std::f64::consts::TAU,
@@ -336,21 +343,43 @@ pub fn modes(sys_labels: &[String], model: &LinearModel, count: usize) -> Vec<Ca
     out
 }
 
-fn mode_label(labels: &[String], model: &LinearModel, nz: usize, l: Complex<f64>) -> String {
-    if nz == 0 {
-        return String::new();
-    }
+/// The label of the mode of eigenvalue `l` and its vector `z` (independent
+/// coordinates), by inverse iteration on `λ²M̂ + λĈ + K̂`, orthogonal (in
+/// `M̂`) to the vectors `prev` of the same eigenvalue.
+fn mode_label(
+    labels: &[String],
+    model: &LinearModel,
+    nz: usize,
+    l: Complex<f64>,
+    prev: &[(Complex<f64>, DVector<Complex<f64>>)],
+) -> (String, DVector<Complex<f64>>) {
     let c = |x: f64| Complex::new(x, 0.0);
-    // P(λ) shifted by a little so that it factors; two inverse iterations.
+    if nz == 0 {
+        return (String::new(), DVector::zeros(0));
+    }
+    let mh = model.m_hat.map(c);
+    let deflate = |z: &mut DVector<Complex<f64>>| {
+        for (_, v) in prev {
+            let mv = &mh * v;
+            let num = mv.dotc(z);
+            let den = mv.dotc(v);
+            if den.norm() > 0.0 {
+                *z -= v * (num / den);
+            }
+        }
+    };
+    // P(λ) shifted by a little so that it factors; three inverse iterations.
     let s = l + Complex::new(1e-9 * (1.0 + l.norm()), 1e-9 * (1.0 + l.norm()));
     let p = DMatrix::from_fn(nz, nz, |i, j| {
         s * s * c(model.m_hat[(i, j)]) + s * c(model.c_hat[(i, j)]) + c(model.k_hat[(i, j)])
     });
     let lu = p.lu();
     let mut z = DVector::from_fn(nz, |i, _| Complex::new(1.0 + 0.1 * (i as f64).sin(), 0.0));
+    deflate(&mut z);
     for _ in 0..3 {
         match lu.solve(&z) {
-            Some(x) => {
+            Some(mut x) => {
+                deflate(&mut x);
                 let n = x.iter().map(|v| v.norm()).fold(0.0, f64::max);
                 if !(n > 0.0) || !n.is_finite() {
                     break;
@@ -372,10 +401,12 @@ fn mode_label(labels: &[String], model: &LinearModel, nz: usize, l: Complex<f64>
             None => sums.push((k, e)),
         }
     }
-    sums.into_iter()
+    let label = sums
+        .into_iter()
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(k, _)| k)
-        .unwrap_or_default()
+        .unwrap_or_default();
+    (label, z)
 }
 
 /// A Campbell diagram: per speed, the lowest `count` modes.
