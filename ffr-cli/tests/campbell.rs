@@ -405,7 +405,9 @@ fn no_steady_state_is_an_error() {
     let (ok, _, err) = ffr(&["campbell", path.to_str().unwrap(), "--speeds", "0,2"]);
     assert!(!ok, "{err}");
     assert!(
-        err.contains("heavy.toml:") && err.contains("no steady state"),
+        err.contains("heavy.toml:6:11: gravity")
+            && !err.contains("heavy.toml: ")
+            && err.contains("no steady state"),
         "{err}"
     );
 }

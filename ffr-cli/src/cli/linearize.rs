@@ -61,6 +61,15 @@ pub struct CampbellArgs {
     pub svg: Option<PathBuf>,
 }
 
+/// An error of the library about the scene at `path`: a scene-file error
+/// already says where; anything else gets the file's name in front.
+fn located(path: &Path, e: ffr::Error) -> Box<dyn Error> {
+    match e {
+        ffr::Error::Scene(_) => e.into(),
+        other => format!("{}: {other}", path.display()).into(),
+    }
+}
+
 fn parse_at(s: &str) -> Result<At, String> {
     if s == "static" {
         return Ok(At::Static);
@@ -137,7 +146,7 @@ pub fn linearize(args: &LinearizeArgs) -> Result<LinearModel, Box<dyn Error>> {
         args.inputs.as_deref(),
         args.outputs.as_deref(),
     )
-    .map_err(|e| format!("{}: {e}", args.scene.display()))?;
+    .map_err(|e| located(&args.scene, e))?;
     let js = linear_json(&model);
     if let Some(dir) = &args.out {
         write_dir(dir, &model, &js)?;
@@ -264,7 +273,7 @@ pub fn campbell(args: &CampbellArgs) -> Result<Campbell, Box<dyn Error>> {
         args.joint.map(|j| j - 1),
         args.count,
     )
-    .map_err(|e| format!("{}: {e}", args.scene.display()))?;
+    .map_err(|e| located(&args.scene, e))?;
     if let Some(p) = &args.svg {
         let svg = campbell_svg(&c, &spec.description.clone().unwrap_or_default())?;
         output::write_atomic(p, svg.as_bytes())?;
