@@ -630,3 +630,134 @@ fn drive_input_response_equals_the_time_run() {
     println!("drive input: worst {worst:.3e} m against the run's peak {peak:.3e} m");
     assert!(peak > 0.0 && worst < 1e-5 * peak, "{worst:e} vs {peak:e}");
 }
+
+/// The pendulum with a constant torque at its pin: below `m g L/2` the
+/// static Newton finds an equilibrium (from the horizontal, the one above
+/// it, which is unstable: a real pair `±σ`, as it must), above it there is
+/// none, and `--at static` says so and exits non-zero.
+#[test]
+fn static_equilibrium_unstable_or_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("pt.toml");
+    let base = include_str!("../../scenes/pendulum.toml");
+    let with = |tau: f64| {
+        format!("{base}\n[[forces]]\nkind = \"torque\"\na = \"ground@[0.0, 0.0]\"\nb = \"bar\"\ntorque = {tau:?}\n")
+    };
+    std::fs::write(&path, with(0.5)).unwrap();
+    let p = path.to_str().unwrap();
+    let (ok, out, err) = ffr(&["linearize", p, "--at", "static", "--json"]);
+    assert!(ok, "{err}");
+    let js: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(js["inputs"], serde_json::json!(["force1"]));
+    let ev = js["eigenvalues"].as_array().unwrap();
+    let (re, im) = (ev[0][0].as_f64().unwrap(), ev[0][1].as_f64().unwrap());
+    let (re1, im1) = (ev[1][0].as_f64().unwrap(), ev[1][1].as_f64().unwrap());
+    println!("lowest pair: {re} {im}, {re1} {im1}");
+    assert!(im == 0.0 && im1 == 0.0 && (re + re1).abs() < 1e-9 * re.abs() && re.abs() > 1.0);
+    // m g L/2 = 2700 · 1e-4 · 9.81 · 0.5 = 1.32 N m < 100 N m.
+    std::fs::write(&path, with(100.0)).unwrap();
+    let (ok, _, err) = ffr(&["linearize", p, "--at", "static"]);
+    assert!(!ok && err.contains("no steady state found"), "{err}");
+}
+
+/// `C` of every kind of output (position, velocity, elastic deflection,
+/// absolute and relative angle) equals central differences of the output
+/// computed from the marker kinematics, projected with the same basis, to
+/// 1e-6 of each column (the mechanism in motion, planar and spatial).
+#[test]
+fn output_matrix_equals_finite_differences() {
+    use ffr::runtime::linear::LinearOutput;
+    use ffr::runtime::spec::scene::OutputKind;
+    for dim in [2, 3] {
+        let sys = common::mechanism(dim);
+        let s = state_after(&sys, 20, 1e-3);
+        let link = sys.body_id("link").unwrap();
+        let arm = sys.body_id("arm").unwrap();
+        let p = Marker::at(link, Vector3::new(0.2, 0.0, 0.0));
+        let tip = sys.point(arm, 1.0).unwrap();
+        let mid = sys.point(arm, 0.5).unwrap();
+        let out = |name: &str, kind, marker: &Marker, rel: Option<&Marker>| LinearOutput {
+            name: name.into(),
+            kind,
+            marker: marker.clone(),
+            relative_to: rel.cloned(),
+        };
+        let outputs = [
+            out("py", OutputKind::Position(1), &p, None),
+            out("vx", OutputKind::Velocity(0), &tip, None),
+            out("dy", OutputKind::Deflection(1), &mid, None),
+            out("angle", OutputKind::Angle, &Marker::origin(link), None),
+            out("rel", OutputKind::Angle, &Marker::origin(link), Some(&tip)),
+        ];
+        let model = linearize(&sys, &s, &[], &outputs).unwrap();
+        // The outputs from the marker kinematics at (q, q̇).
+        let value = |q: &[f64], v: &[f64]| -> Vec<f64> {
+            let eval = |m: &Marker| {
+                let mut k = sys.marker_kin(m);
+                k.eval(m, q);
+                k
+            };
+            let kp = eval(&p);
+            let kt = eval(&tip);
+            let km = eval(&mid);
+            let kl = eval(&Marker::origin(link));
+            let dy: f64 = mid
+                .shape
+                .entries
+                .iter()
+                .enumerate()
+                .map(|(j, (_, sh, _))| sh[1] * q[km.idx[km.n_frame + j]])
+                .sum();
+            let x = kl.axes[0];
+            vec![
+                kp.pos.y,
+                kt.velocity(v).x,
+                dy,
+                x.y.atan2(x.x),
+                x.dot(&kt.axes[1]).atan2(x.dot(&kt.axes[0])),
+            ]
+        };
+        let free = &model.parts.free;
+        let (mut gq, mut gv) = (
+            DMatrix::zeros(outputs.len(), free.len()),
+            DMatrix::zeros(outputs.len(), free.len()),
+        );
+        for (j, &c) in free.iter().enumerate() {
+            for which in 0..2 {
+                let x = [&s.q, &s.v][which][c];
+                let h = 1e-6 * (1.0 + x.abs());
+                let (mut qp, mut vp) = (s.q.clone(), s.v.clone());
+                let (mut qm, mut vm) = (s.q.clone(), s.v.clone());
+                if which == 0 {
+                    qp[c] += h;
+                    qm[c] -= h;
+                } else {
+                    vp[c] += h;
+                    vm[c] -= h;
+                }
+                let (yp, ym) = (value(&qp, &vp), value(&qm, &vm));
+                for i in 0..outputs.len() {
+                    let d = (yp[i] - ym[i]) / (2.0 * h);
+                    if which == 0 {
+                        gq[(i, j)] = d;
+                    } else {
+                        gv[(i, j)] = d;
+                    }
+                }
+            }
+        }
+        let nz = model.basis.ncols();
+        let mut c_fd = DMatrix::zeros(outputs.len(), 2 * nz);
+        c_fd.view_mut((0, 0), (outputs.len(), nz))
+            .copy_from(&(&gq * &model.basis));
+        c_fd.view_mut((0, nz), (outputs.len(), nz))
+            .copy_from(&(&gv * &model.basis));
+        let err = col_rel(&model.c.transpose(), &c_fd.transpose());
+        println!("dim {dim}: C against differences {err:.1e} (per output row)");
+        assert!(err < 1e-6, "{err:e}");
+        assert!(
+            model.c.row(1).iter().skip(nz).any(|x| *x != 0.0),
+            "velocity output"
+        );
+    }
+}
