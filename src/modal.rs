@@ -119,13 +119,13 @@ impl ReducibleBody {
     /// The flexible body `f` of a built scene (`body`: its runtime body):
     /// equal elements of one section through the exact invariants
     /// ([`ReducibleBody::from_parts`], the body the command-line flags
-    /// describe), a graded mesh or a section table through the runtime's
-    /// assembly of its elements ([`ReducibleBody::from_runtime`]).
+    /// describe), a graded mesh, a section table or attached masses through
+    /// the runtime's assembly ([`ReducibleBody::from_runtime`]).
     pub fn of_scene_body(
         f: &crate::scene::FlexSpec,
         body: &dyn crate::runtime::Body,
     ) -> crate::Result<Self> {
-        if f.nodes.is_none() && f.sections.is_none() {
+        if f.nodes.is_none() && f.sections.is_none() && f.masses.is_empty() {
             Self::from_parts(
                 &f.shape,
                 f.elements,
@@ -168,7 +168,7 @@ impl ReducibleBody {
     ) -> crate::Result<Self> {
         if reference == Reference::Free {
             return Err(
-                "a free body on a graded mesh cannot be reduced yet (its rigid-body motions are written for equal elements)"
+                "a free body on a graded mesh, with a section table or with attached masses cannot be reduced yet (its rigid-body motions are written for equal elements of one section)"
                     .into(),
             );
         }

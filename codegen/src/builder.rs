@@ -150,6 +150,10 @@ pub struct BodyConfig {
     pub elements: usize,
     /// Reference condition.
     pub reference: Reference,
+    /// A section table (a CSV file's path relative to the crate root; see
+    /// [`BodyConfig::sections`]), or `None`: the uniform section of the
+    /// struct's parameters.
+    pub sections: Option<String>,
 }
 
 impl BodyConfig {
@@ -163,7 +167,19 @@ impl BodyConfig {
             kernels: KernelConfig::new(name, shape),
             elements,
             reference,
+            sections: None,
         }
+    }
+    /// Sections that vary along the span, from the CSV file `path`
+    /// (relative to the crate root; the columns of a scene's section table,
+    /// `docs/scenes.md`): the kernels are generated for varying sections and
+    /// the table is baked into the type (`CompiledBody::SECTIONS`); the body
+    /// runs it on `elements` equal elements (`KernelBody::compiled`). Its
+    /// length is the last station's x; the struct's parameters are not read.
+    pub fn sections(mut self, path: impl AsRef<str>) -> Self {
+        self.sections = Some(path.as_ref().to_string());
+        self.kernels = self.kernels.sections(SectionModel::Varying);
+        self
     }
     /// All kernel options at once.
     pub fn options(mut self, o: KernelOptions) -> Self {
@@ -231,9 +247,15 @@ impl Entry {
             (Shape::builtin(s).is_none() && looks_like_path(s)).then(|| dir.join(s))
         };
         match self {
-            Entry::Body(BodyConfig { kernels: k, .. }) | Entry::Kernels(k) => {
-                shape_file(&k.shape, base).into_iter().collect()
-            }
+            Entry::Body(BodyConfig {
+                kernels: k,
+                sections,
+                ..
+            }) => shape_file(&k.shape, base)
+                .into_iter()
+                .chain(sections.iter().map(|p| base.join(p)))
+                .collect(),
+            Entry::Kernels(k) => shape_file(&k.shape, base).into_iter().collect(),
             #[cfg(feature = "scene")]
             Entry::Scene { path, .. } => {
                 let file = base.join(path);
@@ -432,10 +454,15 @@ impl Builder {
                     let spec = BodySpec::new(model.shape.clone(), b.elements, b.reference)?
                         .with_formalism(b.kernels.options.formalism);
                     let set = generate_checked(&model)?;
+                    let sections = match &b.sections {
+                        None => None,
+                        Some(p) => Some(body_stations(&base, p, name, model.shape.dimension)?),
+                    };
                     let opts = EmitOptions {
                         type_name: type_name.clone(),
                         define_struct: true,
                         runtime_path: self.runtime_path.clone(),
+                        sections,
                     };
                     emit_body_file(&set, &spec, &opts)
                 }
@@ -532,9 +559,20 @@ pub fn generate_scene(
         .into_iter()
         .map(|m| {
             let shape = resolve_shape(&m.shape, &dir)?;
+            // Varying-section kernels for a body the scene resolves to a
+            // section table (a uniform material table is `params`).
+            let varying = spec.bodies.iter().any(|b| match &b.kind {
+                ffr_spec::scene::BodyKind::Flexible(f) => f.name == m.name && f.sections.is_some(),
+                _ => false,
+            });
+            let sections = if varying {
+                SectionModel::Varying
+            } else {
+                SectionModel::Uniform
+            };
             Ok((
                 m.name,
-                generate_checked(&KernelModel::new(shape, m.options).with_sections(m.sections))?,
+                generate_checked(&KernelModel::new(shape, m.options).with_sections(sections))?,
             ))
         })
         .collect::<Result<Vec<_>, Error>>()?;
@@ -545,6 +583,30 @@ pub fn generate_scene(
         bodies,
     };
     emit_scene_file(&scene, type_name, runtime_path)
+}
+
+/// The stations of a body's section table ([`crate::sections::body_stations`]).
+#[cfg(feature = "sections")]
+pub(crate) fn body_stations(
+    base: &Path,
+    path: &str,
+    name: &str,
+    dim: usize,
+) -> Result<Vec<ffr_spec::scene::Station>, Error> {
+    crate::sections::body_stations(base, path, name, dim)
+}
+
+/// Without the `sections` feature no table can be read.
+#[cfg(not(feature = "sections"))]
+pub(crate) fn body_stations(
+    _: &Path,
+    path: &str,
+    name: &str,
+    _: usize,
+) -> Result<Vec<ffr_spec::scene::Station>, Error> {
+    Err(Error::Body(format!(
+        "body `{name}`: the section table `{path}` needs the feature `sections` (of `ffr` for `#[flex_body]`, of `ffr-codegen` in a build script)"
+    )))
 }
 
 fn looks_like_path(s: &str) -> bool {

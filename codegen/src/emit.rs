@@ -23,6 +23,9 @@ pub struct EmitOptions {
     pub define_struct: bool,
     /// Path of the runtime crate as the generated code sees it.
     pub runtime_path: String,
+    /// A body's section table, baked as `CompiledBody::SECTIONS` (the
+    /// kernels must be generated for varying sections); `None`: uniform.
+    pub sections: Option<Vec<ffr_spec::scene::Station>>,
 }
 
 impl Default for EmitOptions {
@@ -31,6 +34,7 @@ impl Default for EmitOptions {
             type_name: "Body".into(),
             define_struct: true,
             runtime_path: "::ffr::runtime".into(),
+            sections: None,
         }
     }
 }
@@ -564,7 +568,12 @@ fn body_text(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions, layout: Layou
     let kt = format!("{ty}Kernels");
     let kernels = kernel_impl(set, &kt, rt, layout);
     let mut s = String::new();
-    let used = set.params_used();
+    // A body of a section table reads its sections, not the parameters.
+    let used = if opts.sections.is_some() {
+        Vec::new()
+    } else {
+        set.params_used()
+    };
     if opts.define_struct {
         writeln!(
             s,
@@ -608,15 +617,37 @@ fn body_text(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions, layout: Layou
         .map(|f| {
             if used.contains(f) {
                 format!("{0}: self.{0}", f.field())
+            } else if let (Param::Length, Some(st)) = (f, &opts.sections) {
+                // A section table's body: its length is the last station's x.
+                format!("length: {}", lit(st.last().map_or(0.0, |s| s.x)))
             } else {
                 format!("{}: 0.0", f.field())
             }
         })
         .collect::<Vec<_>>()
         .join(", ");
+    let sections = match &opts.sections {
+        None => String::new(),
+        Some(st) => {
+            let rows: Vec<String> = st
+                .iter()
+                .map(|s| {
+                    format!(
+                        "{rt}::spec::scene::Station {{ x: {}, mass: {}, ea: {}, ei_y: {}, ei_z: {}, gj: {}, rho_iy: {}, rho_iz: {}, rho_j: {}, twist: {} }}",
+                        lit(s.x), lit(s.mass), lit(s.ea), lit(s.ei_y), lit(s.ei_z), lit(s.gj),
+                        lit(s.rho_iy), lit(s.rho_iz), lit(s.rho_j), lit(s.twist)
+                    )
+                })
+                .collect();
+            format!(
+                "\nconst SECTIONS: ::core::option::Option<&'static [{rt}::spec::scene::Station]> = ::core::option::Option::Some(&[{}]);",
+                rows.join(", ")
+            )
+        }
+    };
     writeln!(
         s,
-        "impl {rt}::CompiledBody for {ty} {{\ntype Kernels = {kt};\nconst ELEMENTS: usize = {};\nconst REFERENCE: {rt}::spec::Reference = {rt}::spec::Reference::{:?};\nconst NF: usize = {};\nconst DIM: usize = {};\nconst DOFS: &'static [&'static str] = &[{dofs}];\nfn params(&self) -> {rt}::spec::Params {{ {rt}::spec::Params {{ {fields} }} }}\n}}",
+        "impl {rt}::CompiledBody for {ty} {{\ntype Kernels = {kt};\nconst ELEMENTS: usize = {};\nconst REFERENCE: {rt}::spec::Reference = {rt}::spec::Reference::{:?};\nconst NF: usize = {};\nconst DIM: usize = {};\nconst DOFS: &'static [&'static str] = &[{dofs}];\nfn params(&self) -> {rt}::spec::Params {{ {rt}::spec::Params {{ {fields} }} }}{sections}\n}}",
         spec.elements,
         spec.reference,
         spec.nf(),

@@ -26,6 +26,10 @@ pub struct FlexBodyInput<'a> {
     pub elements: usize,
     /// Reference condition.
     pub reference: Reference,
+    /// A section table: a CSV file's path relative to `base` (the kernels
+    /// are generated for varying sections and the table baked into the
+    /// type); `None`: the uniform section of the struct's parameters.
+    pub sections: Option<&'a str>,
     /// The kernel options (scene `None`: the shape's).
     pub options: KernelOptions,
     /// The user's struct: the generated impls are for it, its kernels are
@@ -46,6 +50,8 @@ pub struct FlexBody {
     /// The shape file, if the shape is not built in (the crate must be
     /// rebuilt when it changes).
     pub shape_file: Option<PathBuf>,
+    /// The section table's file (the crate must be rebuilt when it changes).
+    pub sections_file: Option<PathBuf>,
     /// The parameters the body reads: each must be an `f64` field.
     pub params_used: Vec<Param>,
 }
@@ -66,12 +72,30 @@ pub enum FlexBodyError {
     /// The mesh is not valid (element count).
     #[error("{0}")]
     Elements(Error),
+    /// The section table cannot be read or is not valid.
+    #[error("{0}")]
+    Sections(Error),
 }
 
 /// Resolve, generate and emit the body the attribute describes.
 pub fn expand(input: &FlexBodyInput) -> Result<FlexBody, FlexBodyError> {
     let shape = resolve_shape(input.shape, input.base).map_err(FlexBodyError::Shape)?;
-    let model = KernelModel::new(shape, input.options);
+    let mut model = KernelModel::new(shape, input.options);
+    let sections = match input.sections {
+        None => None,
+        Some(p) => {
+            model = model.with_sections(ffr_spec::SectionModel::Varying);
+            Some(
+                crate::builder::body_stations(
+                    input.base,
+                    p,
+                    input.type_name,
+                    model.shape.dimension,
+                )
+                .map_err(FlexBodyError::Sections)?,
+            )
+        }
+    };
     if model.scene_dim() < model.shape.dimension {
         return Err(FlexBodyError::Scene(model.shape.name.clone()));
     }
@@ -86,12 +110,19 @@ pub fn expand(input: &FlexBodyInput) -> Result<FlexBody, FlexBodyError> {
             type_name: input.type_name.to_string(),
             define_struct: false,
             runtime_path: input.runtime_path.to_string(),
+            sections,
         },
     );
     Ok(FlexBody {
         items,
         shape_name: model.shape.name.clone(),
         shape_file: model.shape.path.clone(),
-        params_used: set.params_used(),
+        sections_file: input.sections.map(|p| input.base.join(p)),
+        // A section table's body reads no parameter fields.
+        params_used: if input.sections.is_some() {
+            Vec::new()
+        } else {
+            set.params_used()
+        },
     })
 }

@@ -34,6 +34,8 @@ pub mod program;
 pub mod sanitize;
 #[cfg(feature = "scene")]
 pub mod scene;
+#[cfg(feature = "sections")]
+pub mod sections;
 pub mod shape;
 
 pub use body::{BodySpec, Dof, ExactInvariants, Formalism, Reference};

@@ -212,3 +212,52 @@ fn builder_writes_varying_section_kernels_on_request() {
     assert!(!uniform.contains("fn section_coefficients("));
     assert_ne!(varying, uniform);
 }
+
+/// `BodyConfig::sections`: the body's file bakes the table
+/// (`CompiledBody::SECTIONS`, every station's numbers written to read back
+/// to the same bits), lists the CSV among its inputs (rerun-if-changed),
+/// reads no parameter field, and a bad table is an error at its cell; a
+/// planar shape refuses twist.
+#[test]
+fn builder_bakes_a_body_section_table() {
+    use ffr_codegen::builder::{BodyConfig, Builder};
+    use ffr_spec::Reference;
+    let dir = temp("body");
+    std::fs::write(
+        dir.join("t.csv"),
+        "x,mass,ea,ei_y,ei_z,gj,rho_iy,rho_iz,twist\n0,3.5,2e9,4e7,6e6,3e6,0.1,0.2,0.3\n1.25,2.25,1e9,2e7,3e6,1e6,0.05,0.1,-0.1\n",
+    )
+    .unwrap();
+    let render = |shape: &str, csv: &str| {
+        Builder::new()
+            .body(BodyConfig::new("blade", shape, 4, Reference::Clamped).sections(csv))
+            .manifest_dir(&dir)
+            .render()
+    };
+    let files = render("beam3", "t.csv").unwrap();
+    // The formatted file, one space between tokens.
+    let code = files[0]
+        .contents
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(code.contains("const SECTIONS"), "{code}");
+    assert!(code.contains("x: 1.25, mass: 2.25,"), "{code}");
+    assert!(code.contains("twist: -0.1,"));
+    assert!(code.contains("length: 1.25,"));
+    assert!(!code.contains("self.rho"));
+    assert!(code.contains("fn section_coefficients("));
+    assert!(files[0].inputs.contains(&dir.join("t.csv")));
+    std::fs::write(dir.join("bad.csv"), "x,mass\n0,1\n").unwrap();
+    let e = render("beam3", "bad.csv").unwrap_err().to_string();
+    assert!(
+        e.starts_with("bad.csv:1:1: body `blade`: the section table has no column"),
+        "{e}"
+    );
+    let e = render("beam2", "t.csv").unwrap_err().to_string();
+    assert!(
+        e.contains("station 0 has twist 0.3: a planar shape bends in x–y only"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -30,4 +30,5 @@ fn ffr_bodies() -> ffr_codegen::Builder {
         .scene_named("builtin_spin_up_modal", "../../scenes/spin_up_modal.toml")
         .scene_named("builtin_two_link_arm", "../../scenes/two_link_arm.toml")
         .scene_named("builtin_blade_5mw", "../../scenes/blade_5mw.toml")
+        .scene_named("builtin_boom_payload", "../../scenes/boom_payload.toml")
 }

@@ -3,7 +3,6 @@
 //! (the observer itself does not allocate).
 
 mod common;
-use common::mechanism;
 use ffr::runtime::{Body, GeneralizedAlpha, Integrator, Rk4Baumgarte, System};
 use ffr_cli::benchmarks::spin_up::{self, SpinUp};
 use std::alloc::{GlobalAlloc, Layout, System as Sys};
@@ -84,15 +83,25 @@ fn spin_up_steps_allocate_nothing() {
 
 #[test]
 fn mechanism_steps_allocate_nothing() {
-    for dim in [2, 3] {
-        let sys = mechanism(dim);
+    let tip = ffr::runtime::spec::AttachedMass {
+        x: 1.0,
+        mass: 0.05,
+        inertia: [[1e-5, 0.0, 0.0], [0.0, 1e-5, 0.0], [0.0, 0.0, 1e-5]],
+    };
+    for (dim, masses) in [(2, vec![]), (3, vec![]), (3, vec![tip])] {
+        // The last: with a mass attached on the arm.
+        let sys = common::mechanism_with_masses(dim, &masses);
         let a = allocations(
             &sys,
             1e-3,
             200,
             Integrator::GeneralizedAlpha(GeneralizedAlpha::default()),
         );
-        assert!(a.iter().all(|&n| n == 0), "dim {dim}: {a:?}");
+        assert!(
+            a.iter().all(|&n| n == 0),
+            "dim {dim}, {} masses: {a:?}",
+            masses.len()
+        );
     }
 }
 

@@ -310,3 +310,36 @@ fn params_with_a_polar_mass_moment() {
         );
     }
 }
+
+/// A section table of one uniform section in the material form is the body
+/// of those `params`: it resolves to them (no section table) and runs bit
+/// for bit like them on the same kernels, whatever its number of stations.
+#[test]
+fn a_uniform_material_table_is_its_params_bit_for_bit() {
+    let text = std::fs::read_to_string(scenes().join("spin_up.toml")).unwrap();
+    let params = "params = { length = 8.0, rho = 2766.67, area = 7.2968e-5, iy = 8.2189e-9, iz = 8.2189e-9, e = 6.8952e10, g = 2.6e10, j = 1.6438e-8 }";
+    assert!(text.contains(params));
+    let row = |x: f64| {
+        format!("{{ x = {x:?}, rho = 2766.67, area = 7.2968e-5, iy = 8.2189e-9, iz = 8.2189e-9, e = 6.8952e10, g = 2.6e10, j = 1.6438e-8 }}")
+    };
+    let table = format!("sections = [{}, {}, {}]", row(0.0), row(3.1), row(8.0));
+    let run = |text: &str| {
+        let mut s = scene::from_str(text, "spin_up.toml", &scenes(), &DefaultKernels)
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!(s.flex[0].sections.is_none());
+        s.t_end = 2.0;
+        let r = scene::run(&s).unwrap();
+        r.t.iter()
+            .chain(r.columns.iter().flatten())
+            .map(|x| x.to_bits())
+            .collect::<Vec<u64>>()
+    };
+    let a = run(&text);
+    let b = run(&text.replace(params, &table));
+    assert!(a.len() > 200);
+    assert_eq!(a, b);
+    // A varying value (or a `twist` column) keeps the table.
+    let varying = text.replace(params, &table.replacen("rho = 2766.67", "rho = 2766.68", 1));
+    let s = scene::from_str(&varying, "spin_up.toml", &scenes(), &DefaultKernels).unwrap();
+    assert!(s.flex[0].sections.is_some());
+}

@@ -67,7 +67,7 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static A: Counting = Counting;
 
-const SCENES: [&str; 7] = [
+const SCENES: [&str; 8] = [
     "spin_up.toml",
     "spin_up_modal.toml",
     "precone.toml",
@@ -75,6 +75,7 @@ const SCENES: [&str; 7] = [
     "pendulum.toml",
     "free_floating.toml",
     "two_link_arm.toml",
+    "boom_payload.toml",
 ];
 
 /// Byte ranges `(start, end)` of tokens in a text.

@@ -110,6 +110,38 @@ fn every_error_names_its_place_and_what_is_allowed() {
             "\"hinge\"",
             vec!["unknown joint kind `hinge`", "ground, fixed, revolute, spherical or prismatic"],
         ),
+        // Attached masses: off the axis, negative, a spatial inertia on a
+        // planar body, with a modal reduction, an unknown key, on a rigid body.
+        (
+            edit("e = 7.0e10 }\n", "e = 7.0e10 }\n\n[[bodies.rod.masses]]\nx = 1.5\nmass = 1.0\n"),
+            "1.5\nmass",
+            vec!["body `rod`: the attached mass's x = 1.5 is not on the axis", "from x = 0 to x = 1 m"],
+        ),
+        (
+            edit("e = 7.0e10 }\n", "e = 7.0e10 }\n\n[[bodies.rod.masses]]\nx = 0.5\nmass = -1.0\n"),
+            "-1.0",
+            vec!["body `rod`: an attached `mass` must not be negative, found -1"],
+        ),
+        (
+            edit("e = 7.0e10 }\n", "e = 7.0e10 }\n\n[[bodies.rod.masses]]\nx = 0.5\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\n"),
+            "[[bodies.rod.masses]]",
+            vec!["body `rod`: attached mass: a planar body's attached mass turns about z only", "give `inertia` as a number"],
+        ),
+        (
+            edit("e = 7.0e10 }\n", "e = 7.0e10 }\nmodes = 2\n\n[[bodies.rod.masses]]\nx = 0.5\nmass = 1.0\n"),
+            "2\n\n[[bodies",
+            vec!["body `rod`: a modal body with attached masses", "not reduced yet"],
+        ),
+        (
+            edit("e = 7.0e10 }\n", "e = 7.0e10 }\n\n[[bodies.rod.masses]]\nx = 0.5\nmass = 1.0\noffset = 0.1\n"),
+            "offset",
+            vec!["unknown field `offset`", "`x`, `mass`, `inertia`"],
+        ),
+        (
+            edit("position = [1.0, 0.0]\n", "position = [1.0, 0.0]\n\n[[bodies.block.masses]]\nx = 0.5\nmass = 1.0\n"),
+            "0.5\ninertia = 1e-3",
+            vec!["body `block` has `mass` (rigid) and `masses` (flexible)"],
+        ),
         // Modal keys without `modes`.
         (
             edit("elements = 2\n", "elements = 2\nmodal_damping = 0.02\n"),

@@ -41,10 +41,18 @@ use syn::{Error, Expr, ExprLit, Fields, Item, ItemStruct, Lit, LitStr, Result, T
 /// - `scene = "planar" | "spatial"`: the scene the body moves in (default:
 ///   the shape's dimension; a planar shape in a spatial scene needs
 ///   `"spatial"`).
+/// - `sections = "data/blade.csv"`: sections that vary along the span, a
+///   CSV section table (the columns of a scene's `sections`,
+///   `docs/scenes.md`) relative to the crate root; the kernels are
+///   generated for varying sections, the table is baked into the type
+///   (`CompiledBody::SECTIONS`) and the crate is rebuilt when it changes.
+///   The body's length is the last station's x. Needs the feature
+///   `sections` of `ffr` (the csv crate in the generator).
 ///
 /// The struct needs an `f64` field for every parameter the body uses
 /// (`length`, `rho`, `area`, `iy`, `iz`, `e`, `g`, `j`; a planar body, for
-/// example, does not use `iy`, `g`, `j`). Other fields are left alone.
+/// example, does not use `iy`, `g`, `j`; a body with `sections` uses none:
+/// `pub struct Blade {}`). Other fields are left alone.
 #[proc_macro_attribute]
 pub fn flex_body(attr: TokenStream, item: TokenStream) -> TokenStream {
     let item = TokenStream2::from(item);
@@ -59,7 +67,7 @@ pub fn flex_body(attr: TokenStream, item: TokenStream) -> TokenStream {
     }
 }
 
-const OPTIONS: &str = "shape, elements, reference, formalism, stiffening, scene";
+const OPTIONS: &str = "shape, elements, reference, formalism, stiffening, scene, sections";
 
 /// The attribute's options as written: the shape and mesh, and the kernel
 /// options as one value (the scene's literal kept for its error span).
@@ -70,6 +78,7 @@ struct Args {
     reference: Option<Reference>,
     options: KernelOptions,
     scene: Option<LitStr>,
+    sections: Option<LitStr>,
 }
 
 fn combine(errors: &mut Option<Error>, e: Error) {
@@ -92,7 +101,7 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
             .unwrap_or_else(|| path.to_token_stream().to_string().replace(' ', ""));
         let known = matches!(
             name.as_str(),
-            "shape" | "elements" | "reference" | "formalism" | "stiffening" | "scene"
+            "shape" | "elements" | "reference" | "formalism" | "stiffening" | "scene" | "sections"
         );
         if !known {
             combine(
@@ -116,6 +125,8 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
         given.push(name.clone());
         let result = match name.as_str() {
             "shape" => string(&value, &name, &shape_help()).map(|s| args.shape = Some(s)),
+            "sections" => string(&value, &name, "a CSV section table's path, relative to the crate root")
+                .map(|s| args.sections = Some(s)),
             "elements" => elements(&value).map(|n| args.elements = Some((n, value.clone()))),
             "reference" => {
                 string(&value, &name, "\"clamped\", \"pinned\" or \"free\"").and_then(|s| {
@@ -311,6 +322,7 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
         base: &manifest_dir,
         elements,
         reference,
+        sections: args.sections.as_ref().map(LitStr::value).as_deref(),
         options: args.options,
         type_name: &type_name,
         runtime_path: &EmitOptions::default().runtime_path,
@@ -332,6 +344,10 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
         ),
         FlexBodyError::Kernels(e) => Error::new_spanned(&shape_lit, e),
         FlexBodyError::Elements(e) => Error::new_spanned(&elements_expr, e),
+        FlexBodyError::Sections(e) => Error::new_spanned(
+            args.sections.as_ref().expect("only a given table can fail"),
+            e,
+        ),
     })?;
     check_fields(&strukt, &body.params_used, &body.shape_name)?;
     let code = body.items;
@@ -345,17 +361,21 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
     } else {
         with_generics(&code, &strukt)?
     };
-    let rebuild = body.shape_file.map(|p| {
-        let p = p.canonicalize().unwrap_or(p);
-        let p = p.to_string_lossy();
-        quote!(
-            const _: &[u8] = ::core::include_bytes!(#p);
-        )
-    });
+    let rebuild = body
+        .shape_file
+        .into_iter()
+        .chain(body.sections_file)
+        .map(|p| {
+            let p = p.canonicalize().unwrap_or(p);
+            let p = p.to_string_lossy();
+            quote!(
+                const _: &[u8] = ::core::include_bytes!(#p);
+            )
+        });
     // The item exactly as written.
     Ok(quote! {
         #item
-        #rebuild
+        #(#rebuild)*
         #impls
     })
 }

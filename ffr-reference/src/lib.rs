@@ -679,7 +679,9 @@ impl RefBody {
     }
 }
 
+mod attached;
 mod stiffening;
+pub use attached::attached_mass;
 pub mod varying;
 pub use stiffening::{StiffeningEnergy, StiffeningModel, N_BEND, N_MEAN};
 

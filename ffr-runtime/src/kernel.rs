@@ -228,6 +228,11 @@ pub trait CompiledBody {
     const DOFS: &'static [&'static str];
     /// The parameter values (unused parameters are 0).
     fn params(&self) -> Params;
+    /// Sections that vary along the span (`#[flex_body(sections = …)]`,
+    /// `BodyConfig::sections`): the stations of the table, baked into the
+    /// type, for kernels generated for varying sections; `None` (the
+    /// default): the uniform section of [`CompiledBody::params`].
+    const SECTIONS: Option<&'static [ffr_spec::scene::Station]> = None;
 }
 
 pub use ffr_spec::invariant_layout;

@@ -8,6 +8,7 @@
 //! the kernel, scatter-add its outputs. Matrices built from element matrices
 //! are banded with the mesh's half-bandwidth.
 
+use crate::attached::Attachment;
 use crate::body::{
     Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork, Invariants,
     PointShape,
@@ -17,7 +18,7 @@ use crate::kernel::{
     invariant_layout, CompiledBody, ElementKernels, KernelInput, MassOut, ResidualOut, TangentOut,
 };
 use ffr_spec::scene::Station;
-use ffr_spec::{Mesh, Params, Reference, SectionProp};
+use ffr_spec::{AttachedMass, Mesh, Params, Reference, SectionProp};
 
 const REMOVED: usize = usize::MAX;
 
@@ -39,6 +40,8 @@ pub struct KernelBody<K> {
     /// `x0[e]` and has length `lengths[e]`.
     x0: Vec<f64>,
     lengths: Vec<f64>,
+    /// Masses attached on the axis ([`KernelBody::with_masses`]).
+    attached: Vec<Attachment>,
 }
 
 /// [`ffr_spec::check_nodes`] as the runtime's error.
@@ -319,15 +322,45 @@ impl<K: ElementKernels> KernelBody<K> {
             maps,
             x0,
             lengths,
+            attached: Vec::new(),
         })
     }
 
-    /// The body of a generated fixed-mesh type (`#[flex_body]`, `Builder::body`).
+    /// The body with `masses` attached on its axis: rigid bodies whose
+    /// centres move with the sections at their `x` (`ffr_spec::AttachedMass`),
+    /// included in the body's invariants and equations.
+    pub fn with_masses(mut self, masses: &[AttachedMass]) -> Result<Self> {
+        let (dim, scene_dim) = (self.layout.dim, self.layout.scene_dim);
+        for (i, m) in masses.iter().enumerate() {
+            m.check(self.params.length, dim)
+                .map_err(|e| Error::InvalidInput(format!("attached mass {i}: {e}")))?;
+            let point = self.point_shape(m.x)?;
+            self.attached
+                .push(Attachment::new(m, &point, dim, scene_dim));
+        }
+        if !masses.is_empty() {
+            let n = self.attached.len();
+            self.layout.description.push_str(&format!(
+                " with {n} attached mass{}",
+                if n == 1 { "" } else { "es" }
+            ));
+        }
+        Ok(self)
+    }
+
+    /// The body of a generated fixed-mesh type (`#[flex_body]`, `Builder::body`):
+    /// its parameters on equal elements, or its baked section table
+    /// ([`CompiledBody::SECTIONS`], [`KernelBody::with_sections`]).
     pub fn compiled<B: CompiledBody<Kernels = K>>(body: &B) -> Result<Self>
     where
         K: Default,
     {
-        Self::new(K::default(), body.params(), B::ELEMENTS, B::REFERENCE)
+        match B::SECTIONS {
+            None => Self::new(K::default(), body.params(), B::ELEMENTS, B::REFERENCE),
+            Some(stations) => {
+                Self::with_sections(K::default(), stations, B::ELEMENTS, None, B::REFERENCE)
+            }
+        }
     }
 
     /// The kernels.
@@ -451,6 +484,10 @@ impl<K: ElementKernels> Body for KernelBody<K> {
             }
             scatter(fe, &mut out.f_f, map);
         }
+        for a in &self.attached {
+            let x = a.gather(s, q, qd, qdd);
+            a.terms.add_forces(&x, frame_rows, &a.map, out);
+        }
     }
 
     fn tangent(
@@ -549,6 +586,11 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                 }
             }
         }
+        for a in &self.attached {
+            let x = a.gather(s, q, qd, qdd);
+            a.terms.add_forces(&x, frame_rows, &a.map, out);
+            a.terms.add_tangent(&x, bp, gp, frame_rows, &a.map, t);
+        }
     }
 
     fn mass(&self, q_f: &[f64], w: &mut BodyWork, out: &mut BodyMass) {
@@ -604,6 +646,11 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                     }
                 }
             }
+        }
+        for a in &self.attached {
+            let n = a.map.len();
+            gather(&mut q[..n], q_f, &a.map);
+            a.terms.add_mass(&q[..n], &a.map, out);
         }
     }
 
@@ -661,6 +708,9 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                     inv.k_ff[(ia, ib)] += buf[off[7] + a * ne + b];
                 }
             }
+        }
+        for a in &self.attached {
+            a.add_invariants(&mut inv);
         }
         inv
     }

@@ -15,10 +15,12 @@
 //!   constraint manifold, eigenvalues, static and steadily rotating states.
 
 pub mod assembly;
+mod attached;
 pub mod body;
 pub mod driver;
 pub mod error;
 pub mod force;
+mod inertia;
 pub mod initial;
 pub mod integrator;
 pub mod joint;

@@ -4,18 +4,10 @@
 //! A [`ModalBody`] evaluates the body-frame equations of [`crate::body`]
 //! from the projected invariants `S̄Φ`, `Φᵀ S̄_kl Φ`, `Ī_kl Φ`, `Φᵀ m_ff Φ`,
 //! `Φᵀ K_ff Φ` (`m`, `S_t0`, `Θ_kl` unchanged) and the stiffening energy
-//! `U_nl(Φ η)` as a polynomial in `η`, with `η` in place of `q_f`:
-//!
-//! - `f_r = m ā − S_t × α + S̄ η̈ + ω̃² S_t + 2 ω̃ S̄ η̇`
-//! - `f_θ = S_t × ā + Ī_θθ α + Ī_θf η̈ + ω × (Ī_θθ ω) + 2 (tr P ω − Pᵀ ω)`
-//! - `f_f = S̄ᵀ ā + Ī_θfᵀ α + m_ff η̈ + Σ_kl [(ω̃²)_kl (Ī_lk + S̄_kl η) +
-//!   2 ω̃_kl S̄_kl η̇] + K_ff η + ∂U_nl/∂η`
-//!
-//! (the terms of `ffr_codegen`'s element equations, over the whole body).
-//! The derivatives the Newton matrix needs are exact: forward-mode dual
-//! numbers through the same evaluation, one direction per mode (seeded with
-//! `∂η = 1`, `∂η̇ = γ'`, `∂η̈ = β'`) and one per frame component. Nothing
-//! allocates after [`ModalBody::new`].
+//! `U_nl(Φ η)` as a polynomial in `η`, with `η` in place of `q_f`: the
+//! equations of [`crate::inertia`] (the terms of `ffr_codegen`'s element
+//! equations, over the whole body), with exact derivatives by dual numbers.
+//! Nothing allocates after [`ModalBody::new`].
 //!
 //! Markers on the body use the full body's point shapes times `Φ`; the
 //! body's own damping (per-mode ratios) is [`Body::damping`].
@@ -25,9 +17,9 @@ use crate::body::{
     PointShape,
 };
 use crate::error::{Error, Result};
-use nalgebra::{DMatrix, DVector};
+use crate::inertia::{bilinear, InertiaTerms, Inputs, Num};
+use nalgebra::DMatrix;
 use std::collections::BTreeMap;
-use std::ops::{Add, Mul, Sub};
 
 /// A polynomial in the modal coordinates, `Σ_t c_t Π_{i ∈ idx_t} η_i`
 /// (indices sorted, repeated for powers).
@@ -106,7 +98,7 @@ impl ModalPoly {
         parts.into_iter().map(ModalPoly::new).collect()
     }
 
-    fn eval<T: Num>(&self, x: impl Fn(usize) -> T) -> T {
+    pub(crate) fn eval<T: Num>(&self, x: impl Fn(usize) -> T) -> T {
         let mut s = T::c(0.0);
         for (c, idx) in self.terms() {
             let mut t = T::c(c);
@@ -147,16 +139,10 @@ pub struct ModalBody {
     inner: Box<dyn Body>,
     data: ModalData,
     layout: BodyLayout,
-    /// `∂U_nl/∂η_a`.
-    grad: Vec<ModalPoly>,
-    /// Which `S̄_kl` are non-zero.
-    s_kl_live: [[bool; 3]; 3],
-    /// `Ī_ab − Ī_ba` for `(a, b)` = `(y, z)`, `(z, x)`, `(x, y)`.
-    c_tf: [DVector<f64>; 3],
-    /// `S̄_ab − S̄_ba` for the same pairs.
-    d_tf: [DMatrix<f64>; 3],
-    /// Which frame components a planar scene has (`ā_x, ā_y, α_z, ω_z`).
-    frame_live: [bool; 9],
+    /// The equations of the projected invariants, with `∂U_nl/∂η`.
+    terms: InertiaTerms,
+    /// `0, 1, …, k − 1`: the modes are the body's coordinates.
+    identity: Vec<usize>,
 }
 
 impl std::fmt::Debug for ModalBody {
@@ -166,174 +152,6 @@ impl std::fmt::Debug for ModalBody {
             .field("modes", &self.data.labels)
             .finish()
     }
-}
-
-/// Which coordinate a dual evaluation differentiates by.
-#[derive(Clone, Copy, Debug)]
-struct Seed {
-    /// Mode `j` (or `usize::MAX`) with `(∂η, ∂η̇, ∂η̈)`.
-    mode: usize,
-    dq: f64,
-    dqd: f64,
-    dqdd: f64,
-    /// Frame component (or `usize::MAX`).
-    frame: usize,
-}
-
-impl Seed {
-    const NONE: Seed = Seed {
-        mode: usize::MAX,
-        dq: 0.0,
-        dqd: 0.0,
-        dqdd: 0.0,
-        frame: usize::MAX,
-    };
-    fn mode(j: usize, dq: f64, dqd: f64, dqdd: f64) -> Self {
-        Seed {
-            mode: j,
-            dq,
-            dqd,
-            dqdd,
-            ..Seed::NONE
-        }
-    }
-    fn frame(k: usize) -> Self {
-        Seed {
-            frame: k,
-            ..Seed::NONE
-        }
-    }
-}
-
-/// The coordinates an evaluation reads (`None`: zero).
-struct Inputs<'a> {
-    q: &'a [f64],
-    qd: Option<&'a [f64]>,
-    qdd: Option<&'a [f64]>,
-    frame: [f64; 9],
-}
-
-impl<'a> Inputs<'a> {
-    fn of(s: &BodyState<'a>) -> Self {
-        Inputs {
-            q: s.q_f,
-            qd: Some(s.qd_f),
-            qdd: Some(s.qdd_f),
-            frame: s.frame,
-        }
-    }
-}
-
-/// Real numbers and dual numbers `v + d ε` (`ε² = 0`).
-trait Num: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
-    fn c(v: f64) -> Self;
-    fn var(v: f64, d: f64) -> Self;
-    fn scale(self, s: f64) -> Self;
-}
-
-impl Num for f64 {
-    #[inline]
-    fn c(v: f64) -> Self {
-        v
-    }
-    #[inline]
-    fn var(v: f64, _: f64) -> Self {
-        v
-    }
-    #[inline]
-    fn scale(self, s: f64) -> Self {
-        self * s
-    }
-}
-
-#[derive(Clone, Copy, Debug)]
-struct Dual {
-    v: f64,
-    d: f64,
-}
-
-impl Add for Dual {
-    type Output = Dual;
-    #[inline]
-    fn add(self, o: Dual) -> Dual {
-        Dual {
-            v: self.v + o.v,
-            d: self.d + o.d,
-        }
-    }
-}
-impl Sub for Dual {
-    type Output = Dual;
-    #[inline]
-    fn sub(self, o: Dual) -> Dual {
-        Dual {
-            v: self.v - o.v,
-            d: self.d - o.d,
-        }
-    }
-}
-impl Mul for Dual {
-    type Output = Dual;
-    #[inline]
-    fn mul(self, o: Dual) -> Dual {
-        Dual {
-            v: self.v * o.v,
-            d: self.d * o.v + self.v * o.d,
-        }
-    }
-}
-impl Num for Dual {
-    #[inline]
-    fn c(v: f64) -> Self {
-        Dual { v, d: 0.0 }
-    }
-    #[inline]
-    fn var(v: f64, d: f64) -> Self {
-        Dual { v, d }
-    }
-    #[inline]
-    fn scale(self, s: f64) -> Self {
-        Dual {
-            v: self.v * s,
-            d: self.d * s,
-        }
-    }
-}
-
-fn cross<T: Num>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-/// `xᵀ M y`.
-fn bilinear<T: Num>(m: &DMatrix<f64>, x: &impl Fn(usize) -> T, y: &impl Fn(usize) -> T) -> T {
-    let n = m.nrows();
-    let mut s = T::c(0.0);
-    for b in 0..n {
-        let mut col = T::c(0.0);
-        for a in 0..n {
-            let v = m[(a, b)];
-            if v != 0.0 {
-                col = col + x(a).scale(v);
-            }
-        }
-        s = s + col * y(b);
-    }
-    s
-}
-
-/// `c · x`.
-fn dot<T: Num>(c: impl Iterator<Item = f64>, x: &impl Fn(usize) -> T) -> T {
-    let mut s = T::c(0.0);
-    for (a, v) in c.enumerate() {
-        if v != 0.0 {
-            s = s + x(a).scale(v);
-        }
-    }
-    s
 }
 
 impl ModalBody {
@@ -400,19 +218,7 @@ impl ModalBody {
                 return bad("the damping matrix must be a finite symmetric k × k matrix".into());
             }
         }
-        let s_kl_live =
-            std::array::from_fn(|a| std::array::from_fn(|b| inv.s_kl[a][b].amax() != 0.0));
-        let cyc = [(1, 2), (2, 0), (0, 1)];
-        let c_tf = std::array::from_fn(|r| {
-            let (a, b) = cyc[r];
-            &inv.i_kl[a][b] - &inv.i_kl[b][a]
-        });
-        let d_tf = std::array::from_fn(|r| {
-            let (a, b) = cyc[r];
-            &inv.s_kl[a][b] - &inv.s_kl[b][a]
-        });
         let planar = full.scene_dim == 2;
-        let frame_live = std::array::from_fn(|i| !(planar && matches!(i, 2 | 3 | 4 | 6 | 7)));
         let layout = BodyLayout {
             dim: full.dim,
             scene_dim: full.scene_dim,
@@ -425,15 +231,13 @@ impl ModalBody {
             description: data.description.clone(),
         };
         let grad = data.stiffening.gradient(k);
+        let terms = InertiaTerms::new(data.invariants.clone(), grad, planar);
         Ok(Self {
             inner,
             data,
             layout,
-            grad,
-            s_kl_live,
-            c_tf,
-            d_tf,
-            frame_live,
+            terms,
+            identity: (0..k).collect(),
         })
     }
 
@@ -445,164 +249,6 @@ impl ModalBody {
     /// The full body the modes were taken from.
     pub fn full_body(&self) -> &dyn Body {
         &*self.inner
-    }
-
-    /// `[f_r; f_θ]` (when `frame_rows`) and each `f_f[a]` (to `sink`) at `s`,
-    /// differentiated along `seed` when `T` is [`Dual`].
-    fn eval<T: Num>(
-        &self,
-        s: &Inputs,
-        seed: Seed,
-        frame_rows: bool,
-        mut sink: impl FnMut(usize, T),
-    ) -> [T; 6] {
-        let inv = &self.data.invariants;
-        let k = self.layout.nf;
-        let d = |j: usize, v: f64| if j == seed.mode { v } else { 0.0 };
-        let q = |j: usize| T::var(s.q[j], d(j, seed.dq));
-        let qd = |j: usize| T::var(s.qd.map_or(0.0, |x| x[j]), d(j, seed.dqd));
-        let qdd = |j: usize| T::var(s.qdd.map_or(0.0, |x| x[j]), d(j, seed.dqdd));
-        let fr = |i: usize| {
-            if self.frame_live[i] {
-                T::var(s.frame[i], if i == seed.frame { 1.0 } else { 0.0 })
-            } else {
-                T::c(0.0)
-            }
-        };
-        let zero = T::c(0.0);
-        let a_bar = [fr(0), fr(1), fr(2)];
-        let alpha = [fr(3), fr(4), fr(5)];
-        let w = [fr(6), fr(7), fr(8)];
-        // ω̃ and ω̃² = ω ωᵀ − |ω|² I.
-        let w1 = [
-            [zero, zero - w[2], w[1]],
-            [w[2], zero, zero - w[0]],
-            [zero - w[1], w[0], zero],
-        ];
-        let wsq = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-        let w2: [[T; 3]; 3] = std::array::from_fn(|a| {
-            std::array::from_fn(|b| {
-                if a == b {
-                    w[a] * w[b] - wsq
-                } else {
-                    w[a] * w[b]
-                }
-            })
-        });
-        // Ī_θf row r, column a.
-        let i_tf = |r: usize, a: usize| {
-            let mut v = T::c(self.c_tf[r][a]);
-            for c in 0..k {
-                let x = self.d_tf[r][(c, a)];
-                if x != 0.0 {
-                    v = v + q(c).scale(x);
-                }
-            }
-            v
-        };
-        let mut out = [zero; 6];
-        if frame_rows {
-            let s_t: [T; 3] = std::array::from_fn(|a| {
-                T::c(inv.s_t0[a]) + dot(inv.s_bar.row(a).iter().copied(), &q)
-            });
-            let mut u = [[zero; 3]; 3];
-            // The symmetric `u` filled by index, both triangles at once.
-            #[allow(clippy::needless_range_loop)]
-            for a in 0..3 {
-                for b in a..3 {
-                    let lin = inv.i_kl[a][b]
-                        .iter()
-                        .zip(inv.i_kl[b][a].iter())
-                        .map(|(x, y)| x + y);
-                    let mut v = T::c(inv.theta[(a, b)]) + dot(lin, &q);
-                    if self.s_kl_live[a][b] {
-                        v = v + bilinear(&inv.s_kl[a][b], &q, &q);
-                    }
-                    u[a][b] = v;
-                    u[b][a] = v;
-                }
-            }
-            let tr = u[0][0] + u[1][1] + u[2][2];
-            let i_tt: [[T; 3]; 3] = std::array::from_fn(|a| {
-                std::array::from_fn(|b| if a == b { tr - u[a][b] } else { zero - u[a][b] })
-            });
-            let p: [[T; 3]; 3] = std::array::from_fn(|a| {
-                std::array::from_fn(|b| {
-                    let mut v = dot(inv.i_kl[a][b].iter().copied(), &qd);
-                    if self.s_kl_live[a][b] {
-                        v = v + bilinear(&inv.s_kl[a][b], &q, &qd);
-                    }
-                    v
-                })
-            });
-            let sbar_qd: [T; 3] =
-                std::array::from_fn(|a| dot(inv.s_bar.row(a).iter().copied(), &qd));
-            let sbar_qdd: [T; 3] =
-                std::array::from_fn(|a| dot(inv.s_bar.row(a).iter().copied(), &qdd));
-            let itf_qdd: [T; 3] = std::array::from_fn(|r| {
-                dot(self.c_tf[r].iter().copied(), &qdd) + bilinear(&self.d_tf[r], &q, &qdd)
-            });
-            let mv = |m: &[[T; 3]; 3], v: &[T; 3]| -> [T; 3] {
-                std::array::from_fn(|a| m[a][0] * v[0] + m[a][1] * v[1] + m[a][2] * v[2])
-            };
-            // f_r = m ā − S_t × α + S̄ η̈ + ω̃² S_t + 2 ω̃ S̄ η̇.
-            let st_x_alpha = cross(&s_t, &alpha);
-            let w2_st = mv(&w2, &s_t);
-            let w1_sqd = mv(&w1, &sbar_qd);
-            for a in 0..3 {
-                out[a] = a_bar[a].scale(inv.mass) - st_x_alpha[a]
-                    + sbar_qdd[a]
-                    + w2_st[a]
-                    + w1_sqd[a].scale(2.0);
-            }
-            // f_θ = S_t × ā + Ī_θθ α + Ī_θf η̈ + ω × (Ī_θθ ω) + 2 (tr P ω − Pᵀ ω).
-            let st_x_a = cross(&s_t, &a_bar);
-            let i_alpha = mv(&i_tt, &alpha);
-            let gyro = cross(&w, &mv(&i_tt, &w));
-            let tr_p = p[0][0] + p[1][1] + p[2][2];
-            for a in 0..3 {
-                let pt_w = p[0][a] * w[0] + p[1][a] * w[1] + p[2][a] * w[2];
-                out[3 + a] =
-                    st_x_a[a] + i_alpha[a] + itf_qdd[a] + gyro[a] + (w[a] * tr_p - pt_w).scale(2.0);
-            }
-        }
-        // f_f.
-        let row_dot = |m: &DMatrix<f64>, a: usize, x: &dyn Fn(usize) -> T| {
-            let mut v = zero;
-            for b in 0..k {
-                let c = m[(a, b)];
-                if c != 0.0 {
-                    v = v + x(b).scale(c);
-                }
-            }
-            v
-        };
-        for a in 0..k {
-            let mut f = zero;
-            for r in 0..3 {
-                f = f + a_bar[r].scale(inv.s_bar[(r, a)]) + i_tf(r, a) * alpha[r];
-            }
-            f = f + row_dot(&inv.m_ff, a, &qdd);
-            for kk in 0..3 {
-                for l in 0..3 {
-                    let c = inv.i_kl[l][kk][a];
-                    let live = self.s_kl_live[kk][l];
-                    if c != 0.0 || live {
-                        let mut v = T::c(c);
-                        if live {
-                            v = v + row_dot(&inv.s_kl[kk][l], a, &q);
-                        }
-                        f = f + w2[kk][l] * v;
-                    }
-                    if kk != l && live {
-                        f = f + (w1[kk][l] * row_dot(&inv.s_kl[kk][l], a, &qd)).scale(2.0);
-                    }
-                }
-            }
-            f = f + row_dot(&inv.k_ff, a, &q) + self.grad[a].eval(q);
-            sink(a, f);
-        }
-        out
     }
 }
 
@@ -617,13 +263,8 @@ impl Body for ModalBody {
 
     fn forces(&self, state: &BodyState, frame_rows: bool, _w: &mut BodyWork, out: &mut BodyForces) {
         out.clear();
-        let rf = self.eval::<f64>(&Inputs::of(state), Seed::NONE, frame_rows, |a, v| {
-            out.f_f[a] = v
-        });
-        if frame_rows {
-            out.f_r.copy_from_slice(&rf[..3]);
-            out.f_th.copy_from_slice(&rf[3..]);
-        }
+        self.terms
+            .add_forces(&Inputs::of(state), frame_rows, &self.identity, out);
     }
 
     fn tangent(
@@ -638,62 +279,13 @@ impl Body for ModalBody {
     ) {
         self.forces(state, frame_rows, w, out);
         t.clear();
-        let k = self.layout.nf;
-        let s = Inputs::of(state);
-        for j in 0..k {
-            let seed = Seed::mode(j, 1.0, gp, bp);
-            let k_ff = &mut t.k_ff;
-            let rf = self.eval::<Dual>(&s, seed, frame_rows, |a, v| k_ff.add(a, j, v.d));
-            if frame_rows {
-                for (r, v) in rf.iter().enumerate() {
-                    t.k_ref_f[r * k + j] = v.d;
-                }
-            }
-        }
-        if frame_rows {
-            for i in (0..9).filter(|&i| self.frame_live[i]) {
-                let d_f = &mut t.d_f_frame;
-                let rf = self.eval::<Dual>(&s, Seed::frame(i), true, |a, v| d_f[a * 9 + i] = v.d);
-                for (r, v) in rf.iter().enumerate() {
-                    t.d_ref_frame[r * 9 + i] = v.d;
-                }
-            }
-        }
+        self.terms
+            .add_tangent(&Inputs::of(state), bp, gp, frame_rows, &self.identity, t);
     }
 
     fn mass(&self, q_f: &[f64], _w: &mut BodyWork, out: &mut BodyMass) {
         out.clear();
-        let inv = &self.data.invariants;
-        let k = self.layout.nf;
-        for a in 0..3 {
-            out.s_t[a] = inv.s_t0[a] + (0..k).map(|j| inv.s_bar[(a, j)] * q_f[j]).sum::<f64>();
-        }
-        for a in 0..k {
-            for b in 0..k {
-                out.m_ff.add(a, b, inv.m_ff[(a, b)]);
-            }
-        }
-        // The acceleration-linear blocks: derivatives at η̇ = η̈ = 0 and a
-        // frame at rest, where the velocity terms vanish.
-        let s = Inputs {
-            q: q_f,
-            qd: None,
-            qdd: None,
-            frame: [0.0; 9],
-        };
-        for j in 0..k {
-            let rf = self.eval::<Dual>(&s, Seed::mode(j, 0.0, 0.0, 1.0), true, |_, _| {});
-            for (r, v) in rf.iter().enumerate() {
-                out.m_ref_f[r * k + j] = v.d;
-            }
-        }
-        for i in (0..6).filter(|&i| self.frame_live[i]) {
-            let m_f = &mut out.m_f_frame;
-            let rf = self.eval::<Dual>(&s, Seed::frame(i), true, |a, v: Dual| m_f[a * 6 + i] = v.d);
-            for (r, v) in rf.iter().enumerate() {
-                out.m_ref_frame[r * 6 + i] = v.d;
-            }
-        }
+        self.terms.add_mass(q_f, &self.identity, out);
     }
 
     fn elastic_energy(&self, q_f: &[f64], _w: &mut BodyWork) -> f64 {

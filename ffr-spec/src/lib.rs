@@ -5,7 +5,7 @@
 //! model options ([`Formalism`], [`Stiffening`], [`SceneDim`], [`FrameModel`],
 //! together [`KernelOptions`]), sections that vary along the span
 //! ([`SectionProp`], [`SectionModel`], the exact element moments
-//! [`element_moments`]), and a scene as resolved data ([`scene`]: what a
+//! [`element_moments`]), masses attached to a beam ([`AttachedMass`]), and a scene as resolved data ([`scene`]: what a
 //! scene file says, checked, before anything is built from it).
 //!
 //! It has no dependencies (feature `clap`: `clap::ValueEnum` for the
@@ -13,6 +13,7 @@
 //! concept (the numbering of `q_f` in particular) without the generator
 //! depending on the runtime or the other way round.
 
+mod attached;
 mod kernel_kind;
 mod kernel_options;
 mod location;
@@ -23,6 +24,7 @@ pub mod scene;
 mod section;
 pub mod text;
 
+pub use attached::{AttachedMass, AttachedMassError};
 pub use kernel_kind::KernelKind;
 pub use kernel_options::{FrameModel, KernelOptions, SceneDim};
 pub use location::Location;

@@ -167,6 +167,17 @@ pub struct FlexSpec {
     /// Section properties varying along the span (`sections = …`), instead
     /// of the uniform `params` (whose `length` is then the last station's x).
     pub sections: Option<SectionTable>,
+    /// Masses attached on the axis (`[[bodies.NAME.masses]]`), in file order.
+    pub masses: Vec<MassSpec>,
+}
+
+/// A mass attached on a flexible body's axis, and where it is written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MassSpec {
+    /// The mass.
+    pub mass: crate::AttachedMass,
+    /// Where it is written.
+    pub at: Location,
 }
 
 /// A table of sections along a beam's span: every quantity varies linearly

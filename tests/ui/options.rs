@@ -33,4 +33,10 @@ pub struct Flat { pub length: f64, pub rho: f64, pub area: f64, pub iy: f64, pub
 #[ffr::flex_body(shape = "beam2", elements = 2, scene = "lunar", stiffening = "third-order")]
 pub struct Lunar { pub length: f64, pub rho: f64, pub area: f64, pub iz: f64, pub e: f64 }
 
+#[ffr::flex_body(shape = "beam2", elements = 2, sections = "shapes/no_such_table.csv")]
+pub struct NoTable {}
+
+#[ffr::flex_body(shape = "beam2", elements = 2, sections = "shapes/bad_table.csv")]
+pub struct BadTable {}
+
 fn main() {}

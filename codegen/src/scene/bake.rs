@@ -191,7 +191,7 @@ impl Bake for ffr_spec::scene::FlexSpec {
             unit(s, "FrameModel", &o.frame),
         );
         format!(
-            "{s}::scene::FlexSpec {{ name: {}, shape: {}, shape_name: {}, shape_at: {}, elements: {}, nodes: {}, reference: {}, options: {options}, params: {s}::Params::from_array({}), given: {}, params_at: {}, modal: {}, sections: {} }}",
+            "{s}::scene::FlexSpec {{ name: {}, shape: {}, shape_name: {}, shape_at: {}, elements: {}, nodes: {}, reference: {}, options: {options}, params: {s}::Params::from_array({}), given: {}, params_at: {}, modal: {}, sections: {}, masses: {} }}",
             self.name.bake(s),
             self.shape.bake(s),
             self.shape_name.bake(s),
@@ -203,7 +203,8 @@ impl Bake for ffr_spec::scene::FlexSpec {
             self.given.bake(s),
             self.params_at.bake(s),
             self.modal.bake(s),
-            self.sections.bake(s)
+            self.sections.bake(s),
+            self.masses.bake(s)
         )
     }
 }
@@ -466,6 +467,19 @@ impl Bake for ffr_spec::scene::SectionTable {
         format!(
             "{s}::scene::SectionTable {{ stations: {}, at: {} }}",
             self.stations.bake(s),
+            self.at.bake(s)
+        )
+    }
+}
+
+impl Bake for ffr_spec::scene::MassSpec {
+    fn bake(&self, s: &Ctx) -> String {
+        let m = &self.mass;
+        format!(
+            "{s}::scene::MassSpec {{ mass: {s}::AttachedMass {{ x: {}, mass: {}, inertia: {} }}, at: {} }}",
+            m.x.bake(s),
+            m.mass.bake(s),
+            m.inertia.bake(s),
             self.at.bake(s)
         )
     }

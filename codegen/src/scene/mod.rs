@@ -72,6 +72,8 @@ pub struct RawBody {
     pub boundary_nodes: Option<Spanned<Vec<i64>>>,
     pub modal_damping: Option<Spanned<toml::Value>>,
     pub static_modes: Option<Spanned<bool>>,
+    /// Masses attached on the axis: `[[bodies.NAME.masses]]`.
+    pub masses: Option<Vec<Spanned<RawAttachedMass>>>,
     // Rigid.
     pub mass: Option<Spanned<f64>>,
     pub inertia: Option<Spanned<toml::Value>>,
@@ -105,6 +107,17 @@ pub struct RawElastic {
 pub struct RawOrientation {
     pub axis: Spanned<Vec<f64>>,
     pub angle: Spanned<f64>,
+}
+
+/// `[[bodies.NAME.masses]] x = 2.0, mass = 5.0, inertia = …`: a mass on a
+/// flexible body's axis (inertia optional: a number, J_zz of a planar body;
+/// `[Jxx, Jyy, Jzz]` or a 3×3 table in space; kg m², about its centre).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawAttachedMass {
+    pub x: Spanned<f64>,
+    pub mass: Spanned<f64>,
+    pub inertia: Option<Spanned<toml::Value>>,
 }
 
 /// `damping = { alpha = 0.0, beta = 1e-4 }` (Rayleigh).

@@ -21,8 +21,6 @@ pub struct FlexBodyModel {
     /// folded joint prescribes its motion (then at rest when, in addition,
     /// the scene has no gravity: `ā = Aᵀ(R̈ − g) ≡ 0`).
     pub options: ffr_spec::KernelOptions,
-    /// Varying sections (`sections = …`) or one uniform section (`params`).
-    pub sections: ffr_spec::SectionModel,
 }
 
 /// The stiffening model of `stiffening = true | false | "second-order" | "fourth-order"`.
@@ -101,18 +99,6 @@ pub fn flex_models(raw: &RawScene, text: &str, file: &str) -> Result<Vec<FlexBod
                 stiffening,
                 scene: ffr_spec::SceneDim::from_dim(dim),
                 frame: ffr_spec::FrameModel::from_flags(!fixed, fixed && !gravity),
-            },
-            // A section table, or uniform `params` with their own polar
-            // mass moment `rho_j` (read as a one-section table).
-            sections: if rb.sections.is_some()
-                || rb
-                    .params
-                    .as_ref()
-                    .is_some_and(|p| p.get_ref().keys().any(|k| k.get_ref() == "rho_j"))
-            {
-                ffr_spec::SectionModel::Varying
-            } else {
-                ffr_spec::SectionModel::Uniform
             },
         });
     }

@@ -63,6 +63,7 @@ pub mod scenes {
     include!(concat!(env!("OUT_DIR"), "/builtin_spin_up_modal.rs"));
     include!(concat!(env!("OUT_DIR"), "/builtin_two_link_arm.rs"));
     include!(concat!(env!("OUT_DIR"), "/builtin_blade_5mw.rs"));
+    include!(concat!(env!("OUT_DIR"), "/builtin_boom_payload.rs"));
 }
 
 /// Bodies from `build.rs` (see `ffr_bodies.rs`): each file defines a struct

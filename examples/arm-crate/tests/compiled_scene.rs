@@ -59,7 +59,7 @@ fn built_in_scenes_compile_to_their_files() {
         fn() -> ffr::runtime::spec::scene::SceneSpec,
         fn() -> Result<ffr::scene::Scene, ffr::SceneError>,
     );
-    let scenes: [Compiled; 8] = [
+    let scenes: [Compiled; 9] = [
         (
             BuiltinFreeFloatingScene::ORIGIN,
             BuiltinFreeFloatingScene::spec,
@@ -99,6 +99,11 @@ fn built_in_scenes_compile_to_their_files() {
             BuiltinBlade5mwScene::ORIGIN,
             BuiltinBlade5mwScene::spec,
             BuiltinBlade5mwScene::load,
+        ),
+        (
+            BuiltinBoomPayloadScene::ORIGIN,
+            BuiltinBoomPayloadScene::spec,
+            BuiltinBoomPayloadScene::load,
         ),
     ];
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));

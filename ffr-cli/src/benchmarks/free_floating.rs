@@ -394,7 +394,18 @@ pub fn check_rates(
     seed: u64,
 ) -> Result<RateCheck, Box<dyn std::error::Error>> {
     let spec = free_spec(beam, elements, stiff);
-    let d = beam.scene_dim();
+    check_rates_of(|| Ok(spec.body()?), scales, states, seed)
+}
+
+/// [`check_rates`] for the free bodies `body()` makes (e.g. with attached
+/// masses), in the scene dimension the body is written for.
+pub fn check_rates_of<B: Body>(
+    body: impl Fn() -> Result<B, Box<dyn std::error::Error>>,
+    scales: &StateScales,
+    states: usize,
+    seed: u64,
+) -> Result<RateCheck, Box<dyn std::error::Error>> {
+    let d = body()?.layout().scene_dim;
     let mut rng = Lcg(seed);
     let mut out = RateCheck {
         states,
@@ -406,7 +417,7 @@ pub fn check_rates(
         formula_vs_differences: (0.0, 0.0),
     };
     for _ in 0..states {
-        let (sys, b) = random_system(spec.body()?, &mut rng, scales)?;
+        let (sys, b) = random_system(body()?, &mut rng, scales)?;
         let s = sys.initial_state(0.0)?;
         let (q, v, a) = (&s.q, &s.v, &s.a);
         let body = sys.body(b);

@@ -3,7 +3,7 @@
 
 use ffr::kernels::BeamSpec;
 use ffr::runtime::nalgebra::{Vector2, Vector3};
-use ffr::runtime::spec::{Params, Stiffening};
+use ffr::runtime::spec::{AttachedMass, Params, Stiffening};
 use ffr::runtime::{Body, Driver, Marker, Pose, RigidBody, System, TorqueLaw};
 
 pub const BAR: Params = Params {
@@ -20,11 +20,18 @@ pub const BAR: Params = Params {
 /// A flexible arm on a revolute joint, a rigid link on its tip, a spring to
 /// the ground, a point force and a driven joint: every kind of interaction.
 pub fn mechanism(dim: usize) -> System<Box<dyn Body>> {
+    mechanism_with_masses(dim, &[])
+}
+
+/// [`mechanism`] with `masses` attached on the arm.
+pub fn mechanism_with_masses(dim: usize, masses: &[AttachedMass]) -> System<Box<dyn Body>> {
     let mut sys: System<Box<dyn Body>> = System::with_dim(dim);
     let arm = BeamSpec::new(if dim == 2 { "beam2" } else { "beam3" }, 4, BAR)
         .stiffening(Stiffening::FourthOrder)
         .scene_dim(dim)
         .body()
+        .unwrap()
+        .with_masses(masses)
         .unwrap();
     let a = sys
         .add_body("arm", Box::new(arm), Pose::identity(dim))

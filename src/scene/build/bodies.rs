@@ -163,6 +163,19 @@ fn flexible(
         }
     }
     .map_err(|e| err(&b.at, format!("body `{name}`: {e}")))?;
+    let kb = if f.masses.is_empty() {
+        kb
+    } else {
+        let (length, dim) = (kb.params().length, kb.layout().dim);
+        for m in &f.masses {
+            m.mass
+                .check(length, dim)
+                .map_err(|e| err(&m.at, format!("body `{name}`: attached mass: {e}")))?;
+        }
+        let masses: Vec<_> = f.masses.iter().map(|m| m.mass).collect();
+        kb.with_masses(&masses)
+            .map_err(|e| err(&b.at, format!("body `{name}`: {e}")))?
+    };
     let boxed: Box<dyn Body> = match &f.modal {
         None => {
             parts.kernels.push((name.clone(), path.to_string()));
@@ -192,9 +205,9 @@ fn reduce(
     settings: &crate::runtime::spec::scene::ModalSettings,
     kb: KernelBody<Box<dyn crate::runtime::ElementKernels>>,
 ) -> crate::Result<Box<dyn Body>> {
-    if f.nodes.is_some() || f.sections.is_some() {
+    if f.nodes.is_some() || f.sections.is_some() || !f.masses.is_empty() {
         return Err(crate::Error::Invalid(
-            "a modal body needs equal elements of a uniform section; a graded mesh or a section table is not reduced yet".into(),
+            "a modal body needs equal elements of a uniform section; a graded mesh, a section table or attached masses are not reduced yet".into(),
         ));
     }
     let mb = crate::modal::ReducibleBody::from_parts(

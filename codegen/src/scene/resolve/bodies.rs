@@ -29,6 +29,7 @@ pub(super) fn bodies(
                 ("shape", rb.shape.is_some()),
                 ("elements", rb.elements.is_some()),
                 ("params", rb.params.is_some()),
+                ("masses", rb.masses.is_some()),
             ] {
                 if v {
                     return Err(c.err(span.clone(), format!("body `{name_s}` has `mass` (rigid) and `{k}` (flexible): give one kind")));
@@ -96,13 +97,19 @@ pub(super) fn bodies(
                             format!("body `{name_s}` has `params` and `sections`: give one (`params`: a uniform beam; `sections`: properties along the span, the length is the last station's x)"),
                         ));
                     }
-                    let table = sections::sections(c, name_s, v, base)?;
-                    let length = table.stations.last().expect("two stations or more").x;
-                    let mut p = [0.0; 8];
-                    p[0] = length;
-                    let mut given = [false; 8];
-                    given[0] = true;
-                    (Params::from_array(p), given, v.span(), Some(table))
+                    match sections::sections(c, name_s, v, base)? {
+                        // One uniform section in the material form: the
+                        // uniform body of its parameters.
+                        (_, Some(p)) => (p, [true; 8], v.span(), None),
+                        (table, None) => {
+                            let length = table.stations.last().expect("two stations or more").x;
+                            let mut p = [0.0; 8];
+                            p[0] = length;
+                            let mut given = [false; 8];
+                            given[0] = true;
+                            (Params::from_array(p), given, v.span(), Some(table))
+                        }
+                    }
                 }
             };
             if let (true, Some(m)) = (nodes.is_some() || rb.sections.is_some(), &rb.modes) {
@@ -114,6 +121,13 @@ pub(super) fn bodies(
             if let Some((xs, at)) = &nodes {
                 ffr_spec::check_nodes(xs, params.length)
                     .map_err(|e| c.err(at.clone(), format!("body `{name_s}`: {e}")))?;
+            }
+            let masses = attached_masses(c, name_s, rb, params.length)?;
+            if let (false, Some(m)) = (masses.is_empty(), &rb.modes) {
+                return Err(c.err(
+                    m.span(),
+                    format!("body `{name_s}`: a modal body with attached masses (`masses`) is not reduced yet: remove `modes` or the masses"),
+                ));
             }
             let shape_s = shape.get_ref();
             let resolved = if crate::Shape::builtin(shape_s).is_some() {
@@ -136,6 +150,7 @@ pub(super) fn bodies(
                 params_at: c.loc(params_span),
                 modal: modal.map(|(s, span)| (s, c.loc(span))),
                 sections,
+                masses,
             })
         };
         let rigid = rigid_body(rb);
@@ -353,6 +368,64 @@ fn uniform_table(
         at: c.loc(at),
     })
 }
+
+/// `[[bodies.NAME.masses]]`: each mass's `x` on the axis (`0 ≤ x ≤
+/// length`), `mass ≥ 0` and `inertia` (none: zero; a number: `J_zz` of a
+/// planar body; `[Jxx, Jyy, Jzz]` or a 3×3 table). That the inertia is a
+/// rigid body's, for the body's dimension, is checked where the body is built.
+fn attached_masses(
+    c: &Ctx,
+    name: &str,
+    rb: &RawBody,
+    length: f64,
+) -> Result<Vec<ffr_spec::scene::MassSpec>, Error> {
+    let Some(list) = &rb.masses else {
+        return Ok(Vec::new());
+    };
+    if list.len() > MAX_ATTACHED_MASSES {
+        return Err(c.err(
+            list[0].span(),
+            format!(
+                "body `{name}` has {} attached masses; at most {MAX_ATTACHED_MASSES}",
+                list.len()
+            ),
+        ));
+    }
+    let mut out = Vec::new();
+    for m in list {
+        let raw = m.get_ref();
+        let x = fin_f64(c, &raw.x, "x")?;
+        if !(0.0..=length).contains(&x) {
+            return Err(c.err(
+                raw.x.span(),
+                format!("body `{name}`: the attached mass's x = {x} is not on the axis, which runs from x = 0 to x = {length} m"),
+            ));
+        }
+        let mass = fin_f64(c, &raw.mass, "mass")?;
+        if mass < 0.0 {
+            return Err(c.err(
+                raw.mass.span(),
+                format!("body `{name}`: an attached `mass` must not be negative, found {mass}"),
+            ));
+        }
+        let num = |v: &toml::Value| v.as_float().or_else(|| v.as_integer().map(|i| i as f64));
+        let inertia = match &raw.inertia {
+            None => [[0.0; 3]; 3],
+            Some(v) => match num(v.get_ref()) {
+                Some(j) => [[0.0; 3], [0.0; 3], [0.0, 0.0, j]],
+                None => inertia3(c, v)?,
+            },
+        };
+        out.push(ffr_spec::scene::MassSpec {
+            mass: ffr_spec::AttachedMass { x, mass, inertia },
+            at: c.loc(m.span()),
+        });
+    }
+    Ok(out)
+}
+
+/// The most masses one body may carry (a bound on what a scene allocates).
+const MAX_ATTACHED_MASSES: usize = 10_000;
 
 fn rigid_body(rb: &RawBody) -> bool {
     rb.mass.is_some()

@@ -1,42 +1,38 @@
-//! `sections = "blade.csv"` or `sections = [{ x = 0.0, … }, …]`: a table of
-//! sections along a flexible body's span, in the material form (`rho, area,
-//! iy, iz, e, g, j`) or the resultant form (`mass, ea, ei_y, ei_z, gj,
-//! rho_iy, rho_iz`), with optional `rho_j` and `twist`; every quantity
-//! varies linearly in x between stations.
+//! `sections = "blade.csv"` or `sections = [{ x = 0.0, … }, …]` in a scene
+//! file: the table read from the file or the inline array, then checked by
+//! [`crate::sections::stations`].
 
 use super::Ctx;
 use crate::error::{Error, Location};
 use crate::scene::quoted as q;
-use ffr_spec::scene::{SectionTable, Station};
-use std::collections::BTreeMap;
+use crate::sections::{read_csv, stations, Row, MAX_STATIONS};
+use ffr_spec::scene::SectionTable;
 use std::ops::Range;
 use std::path::Path;
 use toml::Spanned;
 
-/// The most bytes of a section table file.
-pub const MAX_TABLE_BYTES: u64 = 4 << 20;
-
-/// The most stations of a section table.
-pub const MAX_STATIONS: usize = 100_000;
-
-const MATERIAL: [&str; 7] = ["rho", "area", "iy", "iz", "e", "g", "j"];
-const RESULTANT: [&str; 7] = ["mass", "ea", "ei_y", "ei_z", "gj", "rho_iy", "rho_iz"];
-const OPTIONAL: [&str; 2] = ["rho_j", "twist"];
-
-/// A row as read: column name → (value, where).
-type Row = BTreeMap<String, (f64, Location)>;
-
 /// The section table of body `name` from the value of its `sections` key
 /// (a CSV path relative to `base`, the scene's directory, or an inline
-/// array of tables).
+/// array of tables), and, when the table is one uniform section in the
+/// material form (every station the same `rho, area, iy, iz, e, g, j`, no
+/// `rho_j` or `twist` column), the `params` it means: such a body is the
+/// uniform body of those parameters, on the same kernels, bit for bit.
 pub(super) fn sections(
     c: &Ctx,
     name: &str,
     v: &Spanned<toml::Value>,
     base: &Path,
-) -> Result<SectionTable, Error> {
+) -> Result<(SectionTable, Option<ffr_spec::Params>), Error> {
     let (rows, at, columns) = match v.get_ref() {
-        toml::Value::String(path) => read_csv(c, name, v.span(), &base.join(path), path)?,
+        toml::Value::String(path) => {
+            let file = base.join(path);
+            read_csv(&file, &file.display().to_string(), name, |m| {
+                c.err(
+                    v.span(),
+                    format!("body `{name}`: the section table `{}`: {m}", q(path)),
+                )
+            })?
+        }
         toml::Value::Array(items) => inline(c, name, v.span(), items)?,
         other => {
             return Err(c.err(
@@ -48,284 +44,7 @@ pub(super) fn sections(
             ))
         }
     };
-    let err = |at: &Location, msg: String| Error::Scene {
-        location: at.clone(),
-        message: format!("body `{name}`: {msg}"),
-    };
-    // The form, from the columns.
-    for col in &columns {
-        if col != "x"
-            && !MATERIAL.contains(&col.as_str())
-            && !RESULTANT.contains(&col.as_str())
-            && !OPTIONAL.contains(&col.as_str())
-        {
-            return Err(err(
-                &at,
-                format!(
-                    "unknown section column `{}`: a table has `x` and either {} (material form) or {} (resultant form), optionally `rho_j` and `twist`",
-                    q(col),
-                    MATERIAL.join(", "),
-                    RESULTANT.join(", ")
-                ),
-            ));
-        }
-    }
-    let has = |set: &[&str]| set.iter().any(|k| columns.iter().any(|c| c == k));
-    let material = match (has(&MATERIAL), has(&RESULTANT)) {
-        (true, true) => {
-            return Err(err(
-                &at,
-                format!(
-                    "the section columns mix the material form ({}) and the resultant form ({}): give one",
-                    MATERIAL.join(", "),
-                    RESULTANT.join(", ")
-                ),
-            ))
-        }
-        (true, false) => true,
-        (false, true) => false,
-        (false, false) => {
-            return Err(err(
-                &at,
-                format!(
-                    "a section table needs `x` and either {} (material form) or {} (resultant form)",
-                    MATERIAL.join(", "),
-                    RESULTANT.join(", ")
-                ),
-            ))
-        }
-    };
-    let needed: &[&str] = if material { &MATERIAL } else { &RESULTANT };
-    for k in std::iter::once(&"x").chain(needed) {
-        if !columns.iter().any(|c| c == k) {
-            return Err(err(
-                &at,
-                format!(
-                    "the section table has no column `{k}`: the {} form needs x, {}",
-                    if material { "material" } else { "resultant" },
-                    needed.join(", ")
-                ),
-            ));
-        }
-    }
-    if rows.len() < 2 {
-        return Err(err(
-            &at,
-            format!(
-                "a section table needs at least two stations (x = 0 and x = the length), found {}",
-                rows.len()
-            ),
-        ));
-    }
-    let mut stations: Vec<Station> = Vec::with_capacity(rows.len());
-    for (i, row) in rows.iter().enumerate() {
-        let get = |k: &str| row.get(k).cloned();
-        let need = |k: &str| get(k).expect("checked: every row has every column");
-        // Positive, or not negative.
-        let positive = |k: &str| -> Result<f64, Error> {
-            let (x, at) = need(k);
-            if x > 0.0 {
-                Ok(x)
-            } else {
-                Err(err(
-                    &at,
-                    format!("station {i}: `{k}` must be > 0, found {x:?}"),
-                ))
-            }
-        };
-        let nonneg = |k: &str| -> Result<f64, Error> {
-            let (x, at) = need(k);
-            if x >= 0.0 {
-                Ok(x)
-            } else {
-                Err(err(
-                    &at,
-                    format!("station {i}: `{k}` must be ≥ 0, found {x:?}"),
-                ))
-            }
-        };
-        let (x, x_at) = need("x");
-        let mut st = if material {
-            let (rho, area, e) = (positive("rho")?, positive("area")?, positive("e")?);
-            let (iy, iz, g, j) = (nonneg("iy")?, nonneg("iz")?, nonneg("g")?, nonneg("j")?);
-            Station {
-                x,
-                mass: rho * area,
-                ea: e * area,
-                ei_y: e * iy,
-                ei_z: e * iz,
-                gj: g * j,
-                rho_iy: rho * iy,
-                rho_iz: rho * iz,
-                rho_j: rho * (iy + iz),
-                twist: 0.0,
-            }
-        } else {
-            let (rho_iy, rho_iz) = (nonneg("rho_iy")?, nonneg("rho_iz")?);
-            Station {
-                x,
-                mass: positive("mass")?,
-                ea: positive("ea")?,
-                ei_y: nonneg("ei_y")?,
-                ei_z: positive("ei_z")?,
-                gj: nonneg("gj")?,
-                rho_iy,
-                rho_iz,
-                rho_j: rho_iy + rho_iz,
-                twist: 0.0,
-            }
-        };
-        if get("rho_j").is_some() {
-            st.rho_j = nonneg("rho_j")?;
-        }
-        if let Some((t, _)) = get("twist") {
-            st.twist = t;
-        }
-        let products = [
-            st.mass, st.ea, st.ei_y, st.ei_z, st.gj, st.rho_iy, st.rho_iz, st.rho_j,
-        ];
-        if products.iter().any(|p| !p.is_finite()) {
-            return Err(err(
-                &x_at,
-                format!("station {i}: a product of the material values is beyond the range of f64"),
-            ));
-        }
-        match stations.last() {
-            None if x != 0.0 => {
-                return Err(err(
-                    &x_at,
-                    format!("the first station is at x = {x:?}: a table starts at the body's root, x = 0"),
-                ))
-            }
-            Some(prev) if x <= prev.x => {
-                return Err(err(
-                    &x_at,
-                    format!(
-                        "station {i} is at x = {x:?}, not after station {} at x = {:?}: `x` must increase strictly",
-                        i - 1,
-                        prev.x
-                    ),
-                ))
-            }
-            _ => {}
-        }
-        stations.push(st);
-    }
-    Ok(SectionTable { stations, at })
-}
-
-/// Every value of the row must be a finite number.
-fn number(text: &str) -> Option<f64> {
-    text.trim().parse::<f64>().ok().filter(|x| x.is_finite())
-}
-
-#[allow(clippy::type_complexity)]
-fn read_csv(
-    c: &Ctx,
-    name: &str,
-    span: Range<usize>,
-    path: &Path,
-    written: &str,
-) -> Result<(Vec<Row>, Location, Vec<String>), Error> {
-    let file = crate::sanitize::snippet(&path.display().to_string(), usize::MAX);
-    let bytes =
-        crate::limits::read_input(path, MAX_TABLE_BYTES, "section table", "MAX_TABLE_BYTES")
-            .map_err(|m| {
-                c.err(
-                    span.clone(),
-                    format!("body `{name}`: the section table `{}`: {m}", q(written)),
-                )
-            })?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        c.err(
-            span.clone(),
-            format!(
-                "body `{name}`: the section table `{}` is not UTF-8 text (at byte {})",
-                q(written),
-                e.utf8_error().valid_up_to()
-            ),
-        )
-    })?;
-    let at = |line: u64, column: usize| Location {
-        file: file.clone(),
-        line: line as usize,
-        column,
-    };
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(true)
-        .comment(Some(b'#'))
-        .flexible(false)
-        .from_reader(text.as_bytes());
-    let csv_err = |e: csv::Error| {
-        let (line, message) = match e.kind() {
-            csv::ErrorKind::UnequalLengths {
-                pos,
-                expected_len,
-                len,
-            } => (
-                pos.as_ref().map_or(1, |p| p.line()),
-                format!("a row has {len} fields, the header {expected_len}"),
-            ),
-            _ => (e.position().map_or(1, |p| p.line()), e.to_string()),
-        };
-        Error::Scene {
-            location: at(line, 1),
-            message: format!("body `{name}`: {message}"),
-        }
-    };
-    let header: Vec<String> = reader
-        .headers()
-        .map_err(csv_err)?
-        .iter()
-        .map(|h| h.trim().to_string())
-        .collect();
-    if let Some(dup) = header
-        .iter()
-        .enumerate()
-        .find(|(i, h)| header[..*i].contains(h))
-    {
-        return Err(Error::Scene {
-            location: at(1, 1),
-            message: format!("body `{name}`: column `{}` appears twice", q(dup.1)),
-        });
-    }
-    let mut rows = Vec::new();
-    for record in reader.records() {
-        let record = record.map_err(csv_err)?;
-        let line = record.position().map_or(1, |p| p.line());
-        if rows.len() == MAX_STATIONS {
-            return Err(Error::Scene {
-                location: at(line, 1),
-                message: format!("body `{name}`: more than {MAX_STATIONS} stations (MAX_STATIONS)"),
-            });
-        }
-        let line_text = text
-            .lines()
-            .nth(line.saturating_sub(1) as usize)
-            .unwrap_or("");
-        let mut row = Row::new();
-        let mut from = 0;
-        for (h, field) in header.iter().zip(record.iter()) {
-            // The field's column in its line (characters, from 1).
-            let col = line_text[from.min(line_text.len())..]
-                .find(field.trim())
-                .map_or(1, |i| line_text[..from + i].chars().count() + 1);
-            from = line_text[from.min(line_text.len())..]
-                .find(',')
-                .map_or(line_text.len(), |i| from + i + 1);
-            let v = number(field).ok_or_else(|| Error::Scene {
-                location: at(line, col),
-                message: format!(
-                    "body `{name}`: column `{}` must be a finite number, found `{}`",
-                    q(h),
-                    q(field.trim())
-                ),
-            })?;
-            row.insert(h.clone(), (v, at(line, col)));
-        }
-        rows.push(row);
-    }
-    Ok((rows, at(1, 1), header))
+    stations(name, rows, at, columns)
 }
 
 #[allow(clippy::type_complexity)]
