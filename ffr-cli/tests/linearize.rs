@@ -512,6 +512,21 @@ fn json_shape_and_matrix_market_files() {
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("linear.json")).unwrap())
             .unwrap();
     assert_eq!(back, js);
+    // `--inputs ''` and `--outputs ''`: none.
+    let (ok, out, err) = ffr(&[
+        "linearize",
+        scene,
+        "--inputs",
+        "",
+        "--outputs",
+        "",
+        "--json",
+    ]);
+    assert!(ok, "{err}");
+    let js: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(js["inputs"], serde_json::json!([]));
+    assert_eq!(js["outputs"], serde_json::json!([]));
+    assert_eq!(js["states"].as_array().unwrap().len(), n);
 }
 
 /// Bad requests: a clear message naming the problem, a non-zero exit, no

@@ -22,11 +22,12 @@ pub struct LinearizeArgs {
     /// Inputs, comma-separated: `jointN` (a torque in the N-th revolute
     /// joint, 1-based), `forceN` (the amplitude of the N-th force), `driveN`
     /// (the acceleration of the N-th joint's drive; its angle and rate
-    /// become states); default: every motor joint and point force or torque.
+    /// become states); default: every motor joint and point force or
+    /// torque; `--inputs ''` for none.
     #[arg(long, value_delimiter = ',')]
     pub inputs: Option<Vec<String>>,
     /// Outputs, comma-separated names of the scene's `[[outputs]]`; default:
-    /// all but the energies.
+    /// all but the energies; `--outputs ''` for none.
     #[arg(long, value_delimiter = ',')]
     pub outputs: Option<Vec<String>>,
     /// Print one JSON object `{states, inputs, outputs, A, B, C, D, eigenvalues}`.
@@ -139,12 +140,22 @@ pub fn linearize(args: &LinearizeArgs) -> Result<LinearModel, Box<dyn Error>> {
         }
     }
     let spec = ffr::scene::load::load_spec(&args.scene)?;
+    // `--inputs ''` asks for none.
+    let names = |v: &Option<Vec<String>>| {
+        v.as_ref().map(|v| {
+            v.iter()
+                .filter(|s| !s.is_empty())
+                .cloned()
+                .collect::<Vec<_>>()
+        })
+    };
+    let (inputs, outputs) = (names(&args.inputs), names(&args.outputs));
     let model = linearize_scene(
         &spec,
         &ffr::scene::DefaultKernels,
         at,
-        args.inputs.as_deref(),
-        args.outputs.as_deref(),
+        inputs.as_deref(),
+        outputs.as_deref(),
     )
     .map_err(|e| located(&args.scene, e))?;
     let js = linear_json(&model);
