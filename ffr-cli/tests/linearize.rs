@@ -512,6 +512,17 @@ fn json_shape_and_matrix_market_files() {
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("linear.json")).unwrap())
             .unwrap();
     assert_eq!(back, js);
+    // The text summary ends with the stiffest mode and the RK4 step it allows.
+    let (ok, out, err) = ffr(&["linearize", scene]);
+    assert!(ok, "{err}");
+    let wmax = js["eigenvalues"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e[0].as_f64().unwrap().hypot(e[1].as_f64().unwrap()))
+        .fold(0.0, f64::max);
+    let dt = 2.0 * std::f64::consts::SQRT_2 / wmax;
+    assert!(out.contains(&format!("2√2/|λ| = {dt:.3e} s")), "{out}");
     // `--inputs ''` and `--outputs ''`: none.
     let (ok, out, err) = ffr(&[
         "linearize",

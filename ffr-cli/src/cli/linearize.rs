@@ -236,7 +236,8 @@ fn print_summary(scene: &Path, m: &LinearModel) -> Result<(), Box<dyn Error>> {
         "|λ|/2π (Hz)",
         "ζ"
     )?;
-    for (k, l) in eigenvalues(&m.a).iter().enumerate() {
+    let ev = eigenvalues(&m.a);
+    for (k, l) in ev.iter().enumerate() {
         let w = l.norm();
         let zeta = if w > 0.0 { -l.re / w } else { 0.0 };
         crate::outln!(
@@ -246,6 +247,13 @@ fn print_summary(scene: &Path, m: &LinearModel) -> Result<(), Box<dyn Error>> {
             l.im,
             w / std::f64::consts::TAU,
             zeta
+        )?;
+    }
+    if let Some(top) = ev.last().map(|l| l.norm()).filter(|w| *w > 0.0) {
+        // RK4's stability region reaches 2√2 on the imaginary axis.
+        crate::outln!(
+            "stiffest mode: |λ| = {top:.6e} rad/s; an explicit RK4 step must stay below 2√2/|λ| = {:.3e} s",
+            2.0 * std::f64::consts::SQRT_2 / top
         )?;
     }
     Ok(())
