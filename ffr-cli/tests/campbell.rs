@@ -456,10 +456,11 @@ fn nrel_5mw_blade_stiffens_as_southwell_predicts() {
 }
 
 /// The modal spin-up beam (4 modes and the static modes of the same 8
-/// elements; its tangents by dual numbers, not the kernels') has the nodal
-/// beam's Campbell frequencies: equal at rest to 1e-9 (the modes are
-/// kept exactly; measured 6e-12), and at 4 rad/s within 5e-6 for the first
-/// three (the reduced basis; measured 3.5e-6 at most).
+/// elements; its own equations and tangents, from the projected
+/// invariants) has the nodal beam's Campbell frequencies: equal at rest to
+/// 1e-9 (the modes are kept exactly; measured 6e-12), and at 4 rad/s
+/// within 5e-6 for the first three (the reduced basis; measured 3.5e-6 at
+/// most).
 #[test]
 fn modal_body_campbell_equals_the_nodal_body() {
     let read =
