@@ -9,11 +9,11 @@
 use crate::codegen::body::ExactInvariants;
 use crate::codegen::limits::check_params;
 use crate::codegen::modal::{self, reduce, rigid_body_modes, ModalBasis, ModeKind, Reduction};
-use crate::codegen::poly::{to_f64, Param, Poly, Sym};
+use crate::codegen::poly::{Param, Poly, Sym};
 use crate::codegen::{BodySpec, Shape};
 use crate::invariants::check_invariants;
 use crate::kernels::BeamSpec;
-use crate::runtime::modal::{ModalBody, ModalData, ModalPoly};
+use crate::runtime::modal::{ModalBody, ModalData};
 use crate::runtime::nalgebra::DMatrix;
 use crate::runtime::spec::Stiffening;
 use crate::runtime::spec::{Formalism, Params, Reference};
@@ -376,9 +376,10 @@ pub use crate::runtime::spec::scene::ModalSettings;
 
 impl ReducibleBody {
     /// The runtime body reduced as `settings` say: the basis (with static
-    /// modes if asked), the projected invariants, the stiffening energy
-    /// `U_nl(Φ η)` of `stiffening`, the modal damping; `full` is the same
-    /// body with nodal coordinates (its point shapes place markers).
+    /// modes if asked), the projected invariants, the modal damping; `full`
+    /// is the same body with nodal coordinates, whose kernels must have the
+    /// stiffening model `stiffening`: its point shapes place markers and,
+    /// with stiffening, its elastic kernels give the elastic force at `Φ η`.
     pub fn runtime_body(
         &self,
         settings: &ModalSettings,
@@ -395,9 +396,9 @@ impl ReducibleBody {
         }
         let normal = settings.modes;
         let base = self.reduce(Some(normal), &settings.boundary, "`modes`")?;
-        let u_nl =
-            modal::substitute_params(&self.spec.stiffening_energy(stiffening), &self.params)?;
         let basis = if settings.static_modes {
+            let u_nl =
+                modal::substitute_params(&self.spec.stiffening_energy(stiffening), &self.params)?;
             let loads =
                 modal::static_loads(&self.invariants, &u_nl, &base.phi, base.frequencies.len())?;
             modal::augment(&base, &self.invariants.m_ff, &self.invariants.k_ff, &loads)?
@@ -428,18 +429,6 @@ impl ReducibleBody {
             d
         });
         let projected = self.invariants.project(&basis.phi);
-        let u_eta = modal::project_energy(&u_nl, &basis.phi)?;
-        let mut terms = Vec::with_capacity(u_eta.terms().count());
-        for (m, c) in u_eta.terms() {
-            let mut idx = Vec::new();
-            for &(s, e) in m.factors() {
-                match s {
-                    Sym::Q(j) if e > 0 => idx.extend(std::iter::repeat_n(j, e as usize)),
-                    other => return Err(format!("projected energy term with `{other}^{e}`").into()),
-                }
-            }
-            terms.push((to_f64(c), idx));
-        }
         let description = format!(
             "{} reduced to {k} modes ({}: {n_normal} normal{}), stiffening {stiffening}",
             self.description(),
@@ -453,7 +442,8 @@ impl ReducibleBody {
         let data = ModalData {
             invariants: to_runtime(&projected),
             phi: basis.phi.clone(),
-            stiffening: ModalPoly::new(terms),
+            // The stiffening energy through the full body's kernels at Φ η.
+            stiffening: stiffening.is_on(),
             damping,
             labels: basis.labels.clone(),
             description,

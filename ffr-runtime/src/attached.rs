@@ -81,7 +81,7 @@ impl Attachment {
         inv.m_ff = &inv.s_kl[0][0] + &inv.s_kl[1][1] + &inv.s_kl[2][2];
         Self {
             map: point.entries.iter().map(|(ia, _, _)| *ia).collect(),
-            terms: InertiaTerms::new(inv, Vec::new(), scene_dim == 2),
+            terms: InertiaTerms::new(inv, false, scene_dim == 2),
         }
     }
 
@@ -102,8 +102,8 @@ impl Attachment {
         }
         Inputs {
             q: &q[..n],
-            qd: Some(&qd[..n]),
-            qdd: Some(&qdd[..n]),
+            qd: &qd[..n],
+            qdd: &qdd[..n],
             frame: s.frame,
         }
     }

@@ -344,6 +344,19 @@ pub struct PointShape {
 pub struct BodyWork {
     /// Scratch values.
     pub buf: Vec<f64>,
+    /// The scratch of a body this body evaluates (a modal body's full body).
+    pub inner: Option<Box<InnerWork>>,
+}
+
+/// Scratch for evaluating another body: its own [`BodyWork`] and outputs.
+#[derive(Clone, Debug)]
+pub struct InnerWork {
+    /// The other body's scratch.
+    pub work: BodyWork,
+    /// Its forces.
+    pub forces: BodyForces,
+    /// Its tangent.
+    pub tangent: BodyTangent,
 }
 
 /// A body of a scene: flexible (element kernels, modal) or rigid.

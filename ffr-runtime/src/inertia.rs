@@ -5,27 +5,26 @@
 //! - `f_r = m ā − S_t × α + S̄ q̈ + ω̃² S_t + 2 ω̃ S̄ q̇`
 //! - `f_θ = S_t × ā + Ī_θθ α + Ī_θf q̈ + ω × (Ī_θθ ω) + 2 (tr P ω − Pᵀ ω)`
 //! - `f_f = S̄ᵀ ā + Ī_θfᵀ α + m_ff q̈ + Σ_kl [(ω̃²)_kl (Ī_lk + S̄_kl q) +
-//!   2 ω̃_kl S̄_kl q̇] + K_ff q + ∂U_nl/∂q`
+//!   2 ω̃_kl S̄_kl q̇] (+ K_ff q)`
 //!
 //! with `S_t = S_t0 + S̄ q`, `Ī_θθ = tr(U) I − U`,
-//! `U_kl = Θ_kl + (Ī_kl + Ī_lk) q + qᵀ S̄_kl q`, `P_kl = (Ī_kl + qᵀ S̄_kl) q̇`.
-//! The derivatives the Newton matrix and the mass blocks need are exact:
-//! forward-mode dual numbers through the same evaluation, one direction per
-//! coordinate (seeded with `∂q = 1`, `∂q̇ = γ'`, `∂q̈ = β'`) and one per
-//! frame component. Nothing allocates after [`InertiaTerms::new`].
+//! `U_kl = Θ_kl + (Ī_kl + Ī_lk) q + qᵀ S̄_kl q`, `P_kl = (Ī_kl + qᵀ S̄_kl) q̇`,
+//! `Ī_θf` row `x` `Ī_yz − Ī_zy + qᵀ (S̄_yz − S̄_zy)` (cyclic). Their
+//! derivatives, which the Newton matrix and the mass blocks need, are
+//! written out (`docs/theory.md` §13, "Derivatives of the equations from
+//! invariants"): no dual numbers, no allocation.
 
 use crate::body::{BodyForces, BodyMass, BodyState, BodyTangent, Invariants};
-use crate::modal::ModalPoly;
 use nalgebra::{DMatrix, DVector};
-use std::ops::{Add, Mul, Sub};
 
 /// The equations of one set of invariants (see the module documentation).
 #[derive(Clone, Debug)]
 pub(crate) struct InertiaTerms {
     inv: Invariants,
     k: usize,
-    /// `∂U_nl/∂q_a` (empty: no stiffening energy).
-    grad: Vec<ModalPoly>,
+    /// Whether `K_ff q` is part of `f_f` (else the caller adds the elastic
+    /// force).
+    elastic: bool,
     /// Which `S̄_kl` are non-zero.
     s_kl_live: [[bool; 3]; 3],
     /// `Ī_ab − Ī_ba` for `(a, b)` = `(y, z)`, `(z, x)`, `(x, y)`.
@@ -36,10 +35,114 @@ pub(crate) struct InertiaTerms {
     frame_live: [bool; 9],
 }
 
+/// The coordinates an evaluation reads.
+pub(crate) struct Inputs<'a> {
+    pub(crate) q: &'a [f64],
+    pub(crate) qd: &'a [f64],
+    pub(crate) qdd: &'a [f64],
+    pub(crate) frame: [f64; 9],
+}
+
+impl<'a> Inputs<'a> {
+    pub(crate) fn of(s: &BodyState<'a>) -> Self {
+        Inputs {
+            q: s.q_f,
+            qd: s.qd_f,
+            qdd: s.qdd_f,
+            frame: s.frame,
+        }
+    }
+}
+
+/// `a × b`.
+fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// `m v`.
+fn mv(m: &[[f64; 3]; 3], v: &[f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|a| m[a][0] * v[0] + m[a][1] * v[1] + m[a][2] * v[2])
+}
+
+/// `ω̃` (`ω̃ v = ω × v`).
+fn skew(w: &[f64; 3]) -> [[f64; 3]; 3] {
+    [[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]]
+}
+
+/// `xᵀ M y`.
+pub(crate) fn bilinear(m: &DMatrix<f64>, x: &[f64], y: &[f64]) -> f64 {
+    let n = m.nrows();
+    let mut s = 0.0;
+    for b in 0..n {
+        let mut col = 0.0;
+        for a in 0..n {
+            let v = m[(a, b)];
+            if v != 0.0 {
+                col += x[a] * v;
+            }
+        }
+        s += col * y[b];
+    }
+    s
+}
+
+/// `c · x`.
+fn dot<'c>(c: impl Iterator<Item = &'c f64>, x: &[f64]) -> f64 {
+    let mut s = 0.0;
+    for (v, xa) in c.zip(x) {
+        if *v != 0.0 {
+            s += xa * v;
+        }
+    }
+    s
+}
+
+/// `(M x)_a`, row `a` of `M` times `x`.
+fn row_dot(m: &DMatrix<f64>, a: usize, x: &[f64]) -> f64 {
+    let mut v = 0.0;
+    for (b, xb) in x.iter().enumerate() {
+        let c = m[(a, b)];
+        if c != 0.0 {
+            v += xb * c;
+        }
+    }
+    v
+}
+
+/// `(Mᵀ x)_a`, column `a` of `M` times `x`.
+fn col_dot(m: &DMatrix<f64>, a: usize, x: &[f64]) -> f64 {
+    let mut v = 0.0;
+    for (b, xb) in x.iter().enumerate() {
+        let c = m[(b, a)];
+        if c != 0.0 {
+            v += xb * c;
+        }
+    }
+    v
+}
+
+/// The state-dependent quantities of one evaluation.
+struct State<'a> {
+    q: &'a [f64],
+    qd: &'a [f64],
+    qdd: &'a [f64],
+    a_bar: [f64; 3],
+    alpha: [f64; 3],
+    w: [f64; 3],
+    /// `ω̃`.
+    w1: [[f64; 3]; 3],
+    /// `ω̃² = ω ωᵀ − |ω|² I`.
+    w2: [[f64; 3]; 3],
+}
+
 impl InertiaTerms {
-    /// The terms of `inv` (`n_f = k`), with the stiffening gradient `grad`
-    /// (`k` polynomials, or none), for a planar or spatial scene.
-    pub(crate) fn new(inv: Invariants, grad: Vec<ModalPoly>, planar: bool) -> Self {
+    /// The terms of `inv` (`n_f = k`) for a planar or spatial scene; with
+    /// `elastic`, `f_f` includes `K_ff q`.
+    pub(crate) fn new(inv: Invariants, elastic: bool, planar: bool) -> Self {
         let k = inv.nf();
         let s_kl_live =
             std::array::from_fn(|a| std::array::from_fn(|b| inv.s_kl[a][b].amax() != 0.0));
@@ -56,7 +159,7 @@ impl InertiaTerms {
         Self {
             inv,
             k,
-            grad,
+            elastic,
             s_kl_live,
             c_tf,
             d_tf,
@@ -69,6 +172,90 @@ impl InertiaTerms {
         &self.inv
     }
 
+    fn state<'a>(&self, s: &'a Inputs) -> State<'a> {
+        let fr = |i: usize| {
+            if self.frame_live[i] {
+                s.frame[i]
+            } else {
+                0.0
+            }
+        };
+        let w = [fr(6), fr(7), fr(8)];
+        let wsq = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        State {
+            q: s.q,
+            qd: s.qd,
+            qdd: s.qdd,
+            a_bar: [fr(0), fr(1), fr(2)],
+            alpha: [fr(3), fr(4), fr(5)],
+            w,
+            w1: skew(&w),
+            w2: std::array::from_fn(|a| {
+                std::array::from_fn(|b| {
+                    if a == b {
+                        w[a] * w[b] - wsq
+                    } else {
+                        w[a] * w[b]
+                    }
+                })
+            }),
+        }
+    }
+
+    /// `S_t = S_t0 + S̄ q`.
+    fn s_t(&self, q: &[f64]) -> [f64; 3] {
+        std::array::from_fn(|a| self.inv.s_t0[a] + dot(self.inv.s_bar.row(a).iter(), q))
+    }
+
+    /// `U_ab = Θ_ab + (Ī_ab + Ī_ba) q + qᵀ S̄_ab q`.
+    fn u(&self, q: &[f64]) -> [[f64; 3]; 3] {
+        let inv = &self.inv;
+        let mut u = [[0.0; 3]; 3];
+        for a in 0..3 {
+            for b in a..3 {
+                let mut v = inv.theta[(a, b)];
+                for (j, qj) in q.iter().enumerate() {
+                    let c = inv.i_kl[a][b][j] + inv.i_kl[b][a][j];
+                    if c != 0.0 {
+                        v += qj * c;
+                    }
+                }
+                if self.s_kl_live[a][b] {
+                    v += bilinear(&inv.s_kl[a][b], q, q);
+                }
+                u[a][b] = v;
+                u[b][a] = v;
+            }
+        }
+        u
+    }
+
+    /// `Ī_θθ = tr(U) I − U`.
+    fn i_tt(u: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+        let tr = u[0][0] + u[1][1] + u[2][2];
+        std::array::from_fn(|a| {
+            std::array::from_fn(|b| if a == b { tr - u[a][b] } else { -u[a][b] })
+        })
+    }
+
+    /// `P_ab = (Ī_ab + qᵀ S̄_ab) q̇`.
+    fn p(&self, q: &[f64], qd: &[f64]) -> [[f64; 3]; 3] {
+        std::array::from_fn(|a| {
+            std::array::from_fn(|b| {
+                let mut v = dot(self.inv.i_kl[a][b].iter(), qd);
+                if self.s_kl_live[a][b] {
+                    v += bilinear(&self.inv.s_kl[a][b], q, qd);
+                }
+                v
+            })
+        })
+    }
+
+    /// `Ī_θf[r][a] = c_tf[r][a] + (d_tfᵀ q)_a`.
+    fn i_tf(&self, r: usize, a: usize, q: &[f64]) -> f64 {
+        self.c_tf[r][a] + col_dot(&self.d_tf[r], a, q)
+    }
+
     /// Adds `[f_r; f_θ]` (when `frame_rows`) and `f_f` at `s` to `out`,
     /// coordinate `a` to `out.f_f[map[a]]`.
     pub(crate) fn add_forces(
@@ -78,18 +265,73 @@ impl InertiaTerms {
         map: &[usize],
         out: &mut BodyForces,
     ) {
-        let f_f = &mut out.f_f;
-        let rf = self.eval::<f64>(s, Seed::NONE, frame_rows, |a, v| f_f[map[a]] += v);
+        let inv = &self.inv;
+        let k = self.k;
+        let st = self.state(s);
+        let (q, qd, qdd) = (st.q, st.qd, st.qdd);
         if frame_rows {
-            for r in 0..3 {
-                out.f_r[r] += rf[r];
-                out.f_th[r] += rf[3 + r];
+            let s_t = self.s_t(q);
+            let i_tt = Self::i_tt(&self.u(q));
+            let p = self.p(q, qd);
+            let sbar_qd: [f64; 3] = std::array::from_fn(|a| dot(inv.s_bar.row(a).iter(), qd));
+            let sbar_qdd: [f64; 3] = std::array::from_fn(|a| dot(inv.s_bar.row(a).iter(), qdd));
+            let itf_qdd: [f64; 3] = std::array::from_fn(|r| {
+                dot(self.c_tf[r].iter(), qdd) + bilinear(&self.d_tf[r], q, qdd)
+            });
+            // f_r = m ā − S_t × α + S̄ q̈ + ω̃² S_t + 2 ω̃ S̄ q̇.
+            let st_x_alpha = cross(&s_t, &st.alpha);
+            let w2_st = mv(&st.w2, &s_t);
+            let w1_sqd = mv(&st.w1, &sbar_qd);
+            for a in 0..3 {
+                out.f_r[a] += st.a_bar[a] * inv.mass - st_x_alpha[a]
+                    + sbar_qdd[a]
+                    + w2_st[a]
+                    + 2.0 * w1_sqd[a];
             }
+            // f_θ = S_t × ā + Ī_θθ α + Ī_θf q̈ + ω × (Ī_θθ ω) + 2 (tr P ω − Pᵀ ω).
+            let st_x_a = cross(&s_t, &st.a_bar);
+            let i_alpha = mv(&i_tt, &st.alpha);
+            let gyro = cross(&st.w, &mv(&i_tt, &st.w));
+            let tr_p = p[0][0] + p[1][1] + p[2][2];
+            let w = &st.w;
+            for a in 0..3 {
+                let pt_w = p[0][a] * w[0] + p[1][a] * w[1] + p[2][a] * w[2];
+                out.f_th[a] +=
+                    st_x_a[a] + i_alpha[a] + itf_qdd[a] + gyro[a] + 2.0 * (w[a] * tr_p - pt_w);
+            }
+        }
+        for a in 0..k {
+            let mut f = 0.0;
+            for r in 0..3 {
+                f += st.a_bar[r] * inv.s_bar[(r, a)] + self.i_tf(r, a, q) * st.alpha[r];
+            }
+            f += row_dot(&inv.m_ff, a, qdd);
+            for kk in 0..3 {
+                for l in 0..3 {
+                    let c = inv.i_kl[l][kk][a];
+                    let live = self.s_kl_live[kk][l];
+                    if c != 0.0 || live {
+                        let mut v = c;
+                        if live {
+                            v += row_dot(&inv.s_kl[kk][l], a, q);
+                        }
+                        f += st.w2[kk][l] * v;
+                    }
+                    if kk != l && live {
+                        f += 2.0 * st.w1[kk][l] * row_dot(&inv.s_kl[kk][l], a, qd);
+                    }
+                }
+            }
+            if self.elastic {
+                f += row_dot(&inv.k_ff, a, q);
+            }
+            out.f_f[map[a]] += f;
         }
     }
 
     /// Adds the derivatives of [`InertiaTerms::add_forces`] (see
-    /// [`BodyTangent`]) to `t`, through `map`.
+    /// [`BodyTangent`]: `β' ∂/∂q̈ + γ' ∂/∂q̇ + ∂/∂q` and the frame
+    /// derivatives) to `t`, through `map`.
     pub(crate) fn add_tangent(
         &self,
         s: &Inputs,
@@ -99,398 +341,223 @@ impl InertiaTerms {
         map: &[usize],
         t: &mut BodyTangent,
     ) {
+        let inv = &self.inv;
+        let k = self.k;
         let nf = t.k_ff.n();
-        for j in 0..self.k {
-            let seed = Seed::mode(j, 1.0, gp, bp);
-            let k_ff = &mut t.k_ff;
-            let rf = self.eval::<Dual>(s, seed, frame_rows, |a, v| k_ff.add(map[a], map[j], v.d));
-            if frame_rows {
-                for (r, v) in rf.iter().enumerate() {
-                    t.k_ref_f[r * nf + map[j]] += v.d;
+        let st = self.state(s);
+        let (q, qd, qdd) = (st.q, st.qd, st.qdd);
+        let (w, w1, w2) = (&st.w, &st.w1, &st.w2);
+        // ∂f_f/∂q: Ī_θf's q-part times α, ω̃²'s S̄_kl; ∂/∂q̇: 2 ω̃_kl S̄_kl;
+        // ∂/∂q̈: m_ff.
+        for a in 0..k {
+            for j in 0..k {
+                let mut v = bp * inv.m_ff[(a, j)];
+                for r in 0..3 {
+                    v += self.d_tf[r][(j, a)] * st.alpha[r];
+                }
+                for kk in 0..3 {
+                    for l in 0..3 {
+                        if self.s_kl_live[kk][l] {
+                            let c = inv.s_kl[kk][l][(a, j)];
+                            v += w2[kk][l] * c;
+                            if kk != l {
+                                v += gp * 2.0 * w1[kk][l] * c;
+                            }
+                        }
+                    }
+                }
+                if self.elastic {
+                    v += inv.k_ff[(a, j)];
+                }
+                if v != 0.0 {
+                    t.k_ff.add(map[a], map[j], v);
                 }
             }
         }
-        if frame_rows {
-            for i in (0..9).filter(|&i| self.frame_live[i]) {
-                let d_f = &mut t.d_f_frame;
-                let rf =
-                    self.eval::<Dual>(s, Seed::frame(i), true, |a, v| d_f[map[a] * 9 + i] += v.d);
-                for (r, v) in rf.iter().enumerate() {
-                    t.d_ref_frame[r * 9 + i] += v.d;
+        if !frame_rows {
+            return;
+        }
+        let s_t = self.s_t(q);
+        let i_tt = Self::i_tt(&self.u(q));
+        let p = self.p(q, qd);
+        let sbar_qd: [f64; 3] = std::array::from_fn(|a| dot(inv.s_bar.row(a).iter(), qd));
+        // Columns of [f_r; f_θ] by coordinate.
+        for j in 0..k {
+            let sj = [inv.s_bar[(0, j)], inv.s_bar[(1, j)], inv.s_bar[(2, j)]];
+            // f_r: ∂/∂q_j = α × S̄_j + ω̃² S̄_j; ∂/∂q̇_j = 2 ω × S̄_j; ∂/∂q̈_j = S̄_j.
+            let a_x_s = cross(&st.alpha, &sj);
+            let w2_s = mv(w2, &sj);
+            let w_x_s = cross(w, &sj);
+            for r in 0..3 {
+                t.k_ref_f[r * nf + map[j]] += a_x_s[r] + w2_s[r] + gp * 2.0 * w_x_s[r] + bp * sj[r];
+            }
+            // f_θ: ∂U_ab/∂q_j = Ī_ab[j] + Ī_ba[j] + ((S̄_ab + S̄_ba) q)_j,
+            // ∂P_ab/∂q_j = (S̄_ab q̇)_j, ∂P_ab/∂q̇_j = Ī_ab[j] + (S̄_abᵀ q)_j,
+            // ∂(Ī_θf q̈)_r/∂q_j = (d_tf[r] q̈)_j.
+            let mut du = [[0.0; 3]; 3];
+            let mut dp = [[0.0; 3]; 3];
+            let mut dpd = [[0.0; 3]; 3];
+            for a in 0..3 {
+                for b in 0..3 {
+                    let mut v = inv.i_kl[a][b][j] + inv.i_kl[b][a][j];
+                    let mut vd = inv.i_kl[a][b][j];
+                    if self.s_kl_live[a][b] {
+                        v += row_dot(&inv.s_kl[a][b], j, q) + col_dot(&inv.s_kl[a][b], j, q);
+                        dp[a][b] = row_dot(&inv.s_kl[a][b], j, qd);
+                        vd += col_dot(&inv.s_kl[a][b], j, q);
+                    }
+                    du[a][b] = v;
+                    dpd[a][b] = vd;
+                }
+            }
+            let di = Self::i_tt(&du);
+            let di_alpha = mv(&di, &st.alpha);
+            let gyro = cross(w, &mv(&di, w));
+            let s_x_a = cross(&sj, &st.a_bar);
+            let tr_dp = dp[0][0] + dp[1][1] + dp[2][2];
+            let tr_dpd = dpd[0][0] + dpd[1][1] + dpd[2][2];
+            for r in 0..3 {
+                let dp_w = dp[0][r] * w[0] + dp[1][r] * w[1] + dp[2][r] * w[2];
+                let dpd_w = dpd[0][r] * w[0] + dpd[1][r] * w[1] + dpd[2][r] * w[2];
+                let dq = s_x_a[r]
+                    + di_alpha[r]
+                    + row_dot(&self.d_tf[r], j, qdd)
+                    + gyro[r]
+                    + 2.0 * (tr_dp * w[r] - dp_w);
+                let dqd = 2.0 * (tr_dpd * w[r] - dpd_w);
+                let dqdd = self.i_tf(r, j, q);
+                t.k_ref_f[(3 + r) * nf + map[j]] += dq + gp * dqd + bp * dqdd;
+            }
+        }
+        // ∂f_f/∂[ā, α, ω]: S̄ᵀ, Ī_θfᵀ, and through ω̃², ω̃:
+        // ∂(ω̃²)_kl/∂ω_i = δ_ki ω_l + ω_k δ_li − 2 ω_i δ_kl, ∂ω̃_kl/∂ω_i = −ε_kli.
+        for a in 0..k {
+            // x_kl = Ī_lk[a] + (S̄_kl q)_a, y_kl = (S̄_kl q̇)_a.
+            let mut x = [[0.0; 3]; 3];
+            let mut y = [[0.0; 3]; 3];
+            for kk in 0..3 {
+                for l in 0..3 {
+                    x[kk][l] = inv.i_kl[l][kk][a];
+                    if self.s_kl_live[kk][l] {
+                        x[kk][l] += row_dot(&inv.s_kl[kk][l], a, q);
+                        y[kk][l] = row_dot(&inv.s_kl[kk][l], a, qd);
+                    }
+                }
+            }
+            let row = map[a] * 9;
+            for r in 0..3 {
+                if self.frame_live[r] {
+                    t.d_f_frame[row + r] += inv.s_bar[(r, a)];
+                }
+                if self.frame_live[3 + r] {
+                    t.d_f_frame[row + 3 + r] += self.i_tf(r, a, q);
+                }
+            }
+            for i in 0..3 {
+                if !self.frame_live[6 + i] {
+                    continue;
+                }
+                let mut v = 0.0;
+                for kk in 0..3 {
+                    for l in 0..3 {
+                        let mut dw2 = 0.0;
+                        if kk == i {
+                            dw2 += w[l];
+                        }
+                        if l == i {
+                            dw2 += w[kk];
+                        }
+                        if kk == l {
+                            dw2 -= 2.0 * w[i];
+                        }
+                        v += dw2 * x[kk][l];
+                    }
+                }
+                // −ε_kli: (k, l) = (i+1, i+2) gives −1, (i+2, i+1) gives +1.
+                let (k1, k2) = ((i + 1) % 3, (i + 2) % 3);
+                v += 2.0 * (-y[k1][k2] + y[k2][k1]);
+                t.d_f_frame[row + 6 + i] += v;
+            }
+        }
+        // ∂[f_r; f_θ]/∂[ā, α, ω] (6 × 9).
+        let m = inv.mass;
+        let st_sk = skew(&s_t);
+        let w_dot_s = w[0] * s_t[0] + w[1] * s_t[1] + w[2] * s_t[2];
+        let v_sk = skew(&sbar_qd);
+        let h = mv(&i_tt, w);
+        let h_sk = skew(&h);
+        let tr_p = p[0][0] + p[1][1] + p[2][2];
+        for r in 0..3 {
+            for c in 0..3 {
+                let d = if r == c { 1.0 } else { 0.0 };
+                // f_r: m I, −S̃_t, (ω·S_t) I + ω S_tᵀ − 2 S_t ωᵀ − 2 ṽ.
+                let fr = [
+                    m * d,
+                    -st_sk[r][c],
+                    w_dot_s * d + w[r] * s_t[c] - 2.0 * s_t[r] * w[c] - 2.0 * v_sk[r][c],
+                ];
+                // f_θ: S̃_t, Ī_θθ, ω̃ Ī_θθ − (Ī_θθ ω)~ + 2 (tr P I − Pᵀ).
+                let w_i = (0..3).map(|b| w1[r][b] * i_tt[b][c]).sum::<f64>();
+                let fth = [
+                    st_sk[r][c],
+                    i_tt[r][c],
+                    w_i - h_sk[r][c] + 2.0 * (tr_p * d - p[c][r]),
+                ];
+                for g in 0..3 {
+                    let col = 3 * g + c;
+                    if self.frame_live[col] {
+                        t.d_ref_frame[r * 9 + col] += fr[g];
+                        t.d_ref_frame[(3 + r) * 9 + col] += fth[g];
+                    }
                 }
             }
         }
     }
 
-    /// Adds the mass blocks at `q` (see [`BodyMass`]) to `out`, through `map`.
+    /// Adds the mass blocks at `q` (see [`BodyMass`]) to `out`, through `map`:
+    /// `m_ff`, `[S̄; Ī_θf]`, their transposes and `[m I, −S̃_t; S̃_t, Ī_θθ]`.
     pub(crate) fn add_mass(&self, q: &[f64], map: &[usize], out: &mut BodyMass) {
         let inv = &self.inv;
         let (k, nf) = (self.k, out.m_ff.n());
+        let s_t = self.s_t(q);
         for a in 0..3 {
-            out.s_t[a] += inv.s_t0[a] + (0..k).map(|j| inv.s_bar[(a, j)] * q[j]).sum::<f64>();
+            out.s_t[a] += s_t[a];
         }
         for a in 0..k {
             for b in 0..k {
                 out.m_ff.add(map[a], map[b], inv.m_ff[(a, b)]);
             }
         }
-        // The acceleration-linear blocks: derivatives at q̇ = q̈ = 0 and a
-        // frame at rest, where the velocity terms vanish.
-        let s = Inputs {
-            q,
-            qd: None,
-            qdd: None,
-            frame: [0.0; 9],
-        };
         for j in 0..k {
-            let rf = self.eval::<Dual>(&s, Seed::mode(j, 0.0, 0.0, 1.0), true, |_, _| {});
-            for (r, v) in rf.iter().enumerate() {
-                out.m_ref_f[r * nf + map[j]] += v.d;
-            }
-        }
-        for i in (0..6).filter(|&i| self.frame_live[i]) {
-            let m_f = &mut out.m_f_frame;
-            let rf = self.eval::<Dual>(&s, Seed::frame(i), true, |a, v: Dual| {
-                m_f[map[a] * 6 + i] += v.d
-            });
-            for (r, v) in rf.iter().enumerate() {
-                out.m_ref_frame[r * 6 + i] += v.d;
-            }
-        }
-    }
-
-    /// `[f_r; f_θ]` (when `frame_rows`) and each `f_f[a]` (to `sink`) at `s`,
-    /// differentiated along `seed` when `T` is [`Dual`].
-    pub(crate) fn eval<T: Num>(
-        &self,
-        s: &Inputs,
-        seed: Seed,
-        frame_rows: bool,
-        mut sink: impl FnMut(usize, T),
-    ) -> [T; 6] {
-        let inv = &self.inv;
-        let k = self.k;
-        let d = |j: usize, v: f64| if j == seed.mode { v } else { 0.0 };
-        let q = |j: usize| T::var(s.q[j], d(j, seed.dq));
-        let qd = |j: usize| T::var(s.qd.map_or(0.0, |x| x[j]), d(j, seed.dqd));
-        let qdd = |j: usize| T::var(s.qdd.map_or(0.0, |x| x[j]), d(j, seed.dqdd));
-        let fr = |i: usize| {
-            if self.frame_live[i] {
-                T::var(s.frame[i], if i == seed.frame { 1.0 } else { 0.0 })
-            } else {
-                T::c(0.0)
-            }
-        };
-        let zero = T::c(0.0);
-        let a_bar = [fr(0), fr(1), fr(2)];
-        let alpha = [fr(3), fr(4), fr(5)];
-        let w = [fr(6), fr(7), fr(8)];
-        // ω̃ and ω̃² = ω ωᵀ − |ω|² I.
-        let w1 = [
-            [zero, zero - w[2], w[1]],
-            [w[2], zero, zero - w[0]],
-            [zero - w[1], w[0], zero],
-        ];
-        let wsq = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-        let w2: [[T; 3]; 3] = std::array::from_fn(|a| {
-            std::array::from_fn(|b| {
-                if a == b {
-                    w[a] * w[b] - wsq
-                } else {
-                    w[a] * w[b]
-                }
-            })
-        });
-        // Ī_θf row r, column a.
-        let i_tf = |r: usize, a: usize| {
-            let mut v = T::c(self.c_tf[r][a]);
-            for c in 0..k {
-                let x = self.d_tf[r][(c, a)];
-                if x != 0.0 {
-                    v = v + q(c).scale(x);
-                }
-            }
-            v
-        };
-        let mut out = [zero; 6];
-        if frame_rows {
-            let s_t: [T; 3] = std::array::from_fn(|a| {
-                T::c(inv.s_t0[a]) + dot(inv.s_bar.row(a).iter().copied(), &q)
-            });
-            let mut u = [[zero; 3]; 3];
-            // The symmetric `u` filled by index, both triangles at once.
-            #[allow(clippy::needless_range_loop)]
-            for a in 0..3 {
-                for b in a..3 {
-                    let lin = inv.i_kl[a][b]
-                        .iter()
-                        .zip(inv.i_kl[b][a].iter())
-                        .map(|(x, y)| x + y);
-                    let mut v = T::c(inv.theta[(a, b)]) + dot(lin, &q);
-                    if self.s_kl_live[a][b] {
-                        v = v + bilinear(&inv.s_kl[a][b], &q, &q);
-                    }
-                    u[a][b] = v;
-                    u[b][a] = v;
-                }
-            }
-            let tr = u[0][0] + u[1][1] + u[2][2];
-            let i_tt: [[T; 3]; 3] = std::array::from_fn(|a| {
-                std::array::from_fn(|b| if a == b { tr - u[a][b] } else { zero - u[a][b] })
-            });
-            let p: [[T; 3]; 3] = std::array::from_fn(|a| {
-                std::array::from_fn(|b| {
-                    let mut v = dot(inv.i_kl[a][b].iter().copied(), &qd);
-                    if self.s_kl_live[a][b] {
-                        v = v + bilinear(&inv.s_kl[a][b], &q, &qd);
-                    }
-                    v
-                })
-            });
-            let sbar_qd: [T; 3] =
-                std::array::from_fn(|a| dot(inv.s_bar.row(a).iter().copied(), &qd));
-            let sbar_qdd: [T; 3] =
-                std::array::from_fn(|a| dot(inv.s_bar.row(a).iter().copied(), &qdd));
-            let itf_qdd: [T; 3] = std::array::from_fn(|r| {
-                dot(self.c_tf[r].iter().copied(), &qdd) + bilinear(&self.d_tf[r], &q, &qdd)
-            });
-            let mv = |m: &[[T; 3]; 3], v: &[T; 3]| -> [T; 3] {
-                std::array::from_fn(|a| m[a][0] * v[0] + m[a][1] * v[1] + m[a][2] * v[2])
-            };
-            // f_r = m ā − S_t × α + S̄ η̈ + ω̃² S_t + 2 ω̃ S̄ η̇.
-            let st_x_alpha = cross(&s_t, &alpha);
-            let w2_st = mv(&w2, &s_t);
-            let w1_sqd = mv(&w1, &sbar_qd);
-            for a in 0..3 {
-                out[a] = a_bar[a].scale(inv.mass) - st_x_alpha[a]
-                    + sbar_qdd[a]
-                    + w2_st[a]
-                    + w1_sqd[a].scale(2.0);
-            }
-            // f_θ = S_t × ā + Ī_θθ α + Ī_θf η̈ + ω × (Ī_θθ ω) + 2 (tr P ω − Pᵀ ω).
-            let st_x_a = cross(&s_t, &a_bar);
-            let i_alpha = mv(&i_tt, &alpha);
-            let gyro = cross(&w, &mv(&i_tt, &w));
-            let tr_p = p[0][0] + p[1][1] + p[2][2];
-            for a in 0..3 {
-                let pt_w = p[0][a] * w[0] + p[1][a] * w[1] + p[2][a] * w[2];
-                out[3 + a] =
-                    st_x_a[a] + i_alpha[a] + itf_qdd[a] + gyro[a] + (w[a] * tr_p - pt_w).scale(2.0);
-            }
-        }
-        // f_f.
-        let row_dot = |m: &DMatrix<f64>, a: usize, x: &dyn Fn(usize) -> T| {
-            let mut v = zero;
-            for b in 0..k {
-                let c = m[(a, b)];
-                if c != 0.0 {
-                    v = v + x(b).scale(c);
-                }
-            }
-            v
-        };
-        for a in 0..k {
-            let mut f = zero;
             for r in 0..3 {
-                f = f + a_bar[r].scale(inv.s_bar[(r, a)]) + i_tf(r, a) * alpha[r];
+                let (s, i) = (inv.s_bar[(r, j)], self.i_tf(r, j, q));
+                out.m_ref_f[r * nf + map[j]] += s;
+                out.m_ref_f[(3 + r) * nf + map[j]] += i;
+                if self.frame_live[r] {
+                    out.m_f_frame[map[j] * 6 + r] += s;
+                }
+                if self.frame_live[3 + r] {
+                    out.m_f_frame[map[j] * 6 + 3 + r] += i;
+                }
             }
-            f = f + row_dot(&inv.m_ff, a, &qdd);
-            for kk in 0..3 {
-                for l in 0..3 {
-                    let c = inv.i_kl[l][kk][a];
-                    let live = self.s_kl_live[kk][l];
-                    if c != 0.0 || live {
-                        let mut v = T::c(c);
-                        if live {
-                            v = v + row_dot(&inv.s_kl[kk][l], a, &q);
-                        }
-                        f = f + w2[kk][l] * v;
-                    }
-                    if kk != l && live {
-                        f = f + (w1[kk][l] * row_dot(&inv.s_kl[kk][l], a, &qd)).scale(2.0);
+        }
+        let i_tt = Self::i_tt(&self.u(q));
+        let st_sk = skew(&s_t);
+        for r in 0..3 {
+            for c in 0..3 {
+                let d = if r == c { 1.0 } else { 0.0 };
+                let blocks = [
+                    (r, c, inv.mass * d),
+                    (r, 3 + c, -st_sk[r][c]),
+                    (3 + r, c, st_sk[r][c]),
+                    (3 + r, 3 + c, i_tt[r][c]),
+                ];
+                for (row, col, v) in blocks {
+                    if self.frame_live[col] {
+                        out.m_ref_frame[row * 6 + col] += v;
                     }
                 }
             }
-            f = f + row_dot(&inv.k_ff, a, &q);
-            if let Some(g) = self.grad.get(a) {
-                f = f + g.eval(q);
-            }
-            sink(a, f);
-        }
-        out
-    }
-}
-
-/// Which coordinate a dual evaluation differentiates by.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Seed {
-    /// Mode `j` (or `usize::MAX`) with `(∂η, ∂η̇, ∂η̈)`.
-    pub(crate) mode: usize,
-    pub(crate) dq: f64,
-    pub(crate) dqd: f64,
-    pub(crate) dqdd: f64,
-    /// Frame component (or `usize::MAX`).
-    pub(crate) frame: usize,
-}
-
-impl Seed {
-    pub(crate) const NONE: Seed = Seed {
-        mode: usize::MAX,
-        dq: 0.0,
-        dqd: 0.0,
-        dqdd: 0.0,
-        frame: usize::MAX,
-    };
-    pub(crate) fn mode(j: usize, dq: f64, dqd: f64, dqdd: f64) -> Self {
-        Seed {
-            mode: j,
-            dq,
-            dqd,
-            dqdd,
-            ..Seed::NONE
         }
     }
-    pub(crate) fn frame(k: usize) -> Self {
-        Seed {
-            frame: k,
-            ..Seed::NONE
-        }
-    }
-}
-
-/// The coordinates an evaluation reads (`None`: zero).
-pub(crate) struct Inputs<'a> {
-    pub(crate) q: &'a [f64],
-    pub(crate) qd: Option<&'a [f64]>,
-    pub(crate) qdd: Option<&'a [f64]>,
-    pub(crate) frame: [f64; 9],
-}
-
-impl<'a> Inputs<'a> {
-    pub(crate) fn of(s: &BodyState<'a>) -> Self {
-        Inputs {
-            q: s.q_f,
-            qd: Some(s.qd_f),
-            qdd: Some(s.qdd_f),
-            frame: s.frame,
-        }
-    }
-}
-
-/// Real numbers and dual numbers `v + d ε` (`ε² = 0`).
-pub(crate) trait Num:
-    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self>
-{
-    fn c(v: f64) -> Self;
-    fn var(v: f64, d: f64) -> Self;
-    fn scale(self, s: f64) -> Self;
-}
-
-impl Num for f64 {
-    #[inline]
-    fn c(v: f64) -> Self {
-        v
-    }
-    #[inline]
-    fn var(v: f64, _: f64) -> Self {
-        v
-    }
-    #[inline]
-    fn scale(self, s: f64) -> Self {
-        self * s
-    }
-}
-
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Dual {
-    pub(crate) v: f64,
-    pub(crate) d: f64,
-}
-
-impl Add for Dual {
-    type Output = Dual;
-    #[inline]
-    fn add(self, o: Dual) -> Dual {
-        Dual {
-            v: self.v + o.v,
-            d: self.d + o.d,
-        }
-    }
-}
-impl Sub for Dual {
-    type Output = Dual;
-    #[inline]
-    fn sub(self, o: Dual) -> Dual {
-        Dual {
-            v: self.v - o.v,
-            d: self.d - o.d,
-        }
-    }
-}
-impl Mul for Dual {
-    type Output = Dual;
-    #[inline]
-    fn mul(self, o: Dual) -> Dual {
-        Dual {
-            v: self.v * o.v,
-            d: self.d * o.v + self.v * o.d,
-        }
-    }
-}
-impl Num for Dual {
-    #[inline]
-    fn c(v: f64) -> Self {
-        Dual { v, d: 0.0 }
-    }
-    #[inline]
-    fn var(v: f64, d: f64) -> Self {
-        Dual { v, d }
-    }
-    #[inline]
-    fn scale(self, s: f64) -> Self {
-        Dual {
-            v: self.v * s,
-            d: self.d * s,
-        }
-    }
-}
-
-fn cross<T: Num>(a: &[T; 3], b: &[T; 3]) -> [T; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-/// `xᵀ M y`.
-pub(crate) fn bilinear<T: Num>(
-    m: &DMatrix<f64>,
-    x: &impl Fn(usize) -> T,
-    y: &impl Fn(usize) -> T,
-) -> T {
-    let n = m.nrows();
-    let mut s = T::c(0.0);
-    for b in 0..n {
-        let mut col = T::c(0.0);
-        for a in 0..n {
-            let v = m[(a, b)];
-            if v != 0.0 {
-                col = col + x(a).scale(v);
-            }
-        }
-        s = s + col * y(b);
-    }
-    s
-}
-
-/// `c · x`.
-fn dot<T: Num>(c: impl Iterator<Item = f64>, x: &impl Fn(usize) -> T) -> T {
-    let mut s = T::c(0.0);
-    for (a, v) in c.enumerate() {
-        if v != 0.0 {
-            s = s + x(a).scale(v);
-        }
-    }
-    s
 }

@@ -425,6 +425,7 @@ impl<K: ElementKernels> Body for KernelBody<K> {
 
     fn work(&self) -> BodyWork {
         BodyWork {
+            inner: None,
             buf: vec![
                 0.0;
                 Scratch {

@@ -40,7 +40,7 @@ pub mod tape;
 pub use assembly::Assembly;
 pub use body::{
     sample_bits, BandBuf, Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork,
-    Invariants, PointShape,
+    InnerWork, Invariants, PointShape,
 };
 pub use driver::Driver;
 pub use error::{Error, Result};
@@ -53,7 +53,7 @@ pub use kernel::{
 };
 pub use kernel_body::KernelBody;
 pub use marker::{BodyId, Marker};
-pub use modal::{ModalBody, ModalData, ModalPoly};
+pub use modal::{ModalBody, ModalData};
 pub use monitor::Monitor;
 pub use nalgebra;
 pub use rigid::RigidBody;

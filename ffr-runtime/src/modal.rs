@@ -2,119 +2,26 @@
 //! (theory: `docs/theory.md`, "Modal bodies").
 //!
 //! A [`ModalBody`] evaluates the body-frame equations of [`crate::body`]
-//! from the projected invariants `S̄Φ`, `Φᵀ S̄_kl Φ`, `Ī_kl Φ`, `Φᵀ m_ff Φ`,
-//! `Φᵀ K_ff Φ` (`m`, `S_t0`, `Θ_kl` unchanged) and the stiffening energy
-//! `U_nl(Φ η)` as a polynomial in `η`, with `η` in place of `q_f`: the
-//! equations of [`crate::inertia`] (the terms of `ffr_codegen`'s element
-//! equations, over the whole body), with exact derivatives by dual numbers.
-//! Nothing allocates after [`ModalBody::new`].
+//! from the projected invariants `S̄Φ`, `Φᵀ S̄_kl Φ`, `Ī_kl Φ`, `Φᵀ m_ff Φ`
+//! (`m`, `S_t0`, `Θ_kl` unchanged), with `η` in place of `q_f`: the equations
+//! of [`crate::inertia`], with their derivatives written out. The elastic
+//! force is `Φᵀ K_ff Φ η` for a linear body; with geometric stiffening it is
+//! the full body's, `Φᵀ (K_ff q_f + ∇U_nl(q_f))` at `q_f = Φ η`, from the full
+//! body's element kernels (its few scalars per element and their chain
+//! rule), with the tangent `Φᵀ K_t Φ` from its banded tangent: no expanded
+//! polynomial in the modes, no dual numbers, nothing allocated after
+//! [`ModalBody::work`].
 //!
 //! Markers on the body use the full body's point shapes times `Φ`; the
 //! body's own damping (per-mode ratios) is [`Body::damping`].
 
 use crate::body::{
-    BandBuf, Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork, Invariants,
-    PointShape,
+    BandBuf, Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork, InnerWork,
+    Invariants, PointShape,
 };
 use crate::error::{Error, Result};
-use crate::inertia::{bilinear, InertiaTerms, Inputs, Num};
+use crate::inertia::{bilinear, InertiaTerms, Inputs};
 use nalgebra::DMatrix;
-use std::collections::BTreeMap;
-
-/// A polynomial in the modal coordinates, `Σ_t c_t Π_{i ∈ idx_t} η_i`
-/// (indices sorted, repeated for powers).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct ModalPoly {
-    coefs: Vec<f64>,
-    /// Term `t` uses `idx[starts[t]..starts[t + 1]]`.
-    starts: Vec<usize>,
-    idx: Vec<u32>,
-}
-
-impl ModalPoly {
-    /// From terms `(c, indices)`; equal index multisets are merged, zero
-    /// coefficients dropped, terms kept in index order (deterministic).
-    pub fn new(terms: impl IntoIterator<Item = (f64, Vec<u32>)>) -> Self {
-        let mut map: BTreeMap<Vec<u32>, f64> = BTreeMap::new();
-        for (c, mut idx) in terms {
-            idx.sort_unstable();
-            *map.entry(idx).or_insert(0.0) += c;
-        }
-        let mut out = ModalPoly {
-            coefs: Vec::new(),
-            starts: vec![0],
-            idx: Vec::new(),
-        };
-        for (idx, c) in map {
-            if c != 0.0 {
-                out.coefs.push(c);
-                out.idx.extend_from_slice(&idx);
-                out.starts.push(out.idx.len());
-            }
-        }
-        out
-    }
-
-    /// Number of terms.
-    pub fn len(&self) -> usize {
-        self.coefs.len()
-    }
-
-    /// Whether the polynomial is zero.
-    pub fn is_empty(&self) -> bool {
-        self.coefs.is_empty()
-    }
-
-    /// The terms `(c, indices)`.
-    pub fn terms(&self) -> impl Iterator<Item = (f64, &[u32])> {
-        self.coefs
-            .iter()
-            .enumerate()
-            .map(|(t, &c)| (c, &self.idx[self.starts[t]..self.starts[t + 1]]))
-    }
-
-    /// The largest index used plus one (0 for a constant).
-    pub fn vars(&self) -> usize {
-        self.idx.iter().map(|&i| i as usize + 1).max().unwrap_or(0)
-    }
-
-    /// `∂/∂η_j` for `j < k`.
-    pub fn gradient(&self, k: usize) -> Vec<ModalPoly> {
-        let mut parts: Vec<Vec<(f64, Vec<u32>)>> = vec![Vec::new(); k];
-        for (c, idx) in self.terms() {
-            let mut p = 0;
-            while p < idx.len() {
-                let v = idx[p];
-                let mut e = 0;
-                while p + e < idx.len() && idx[p + e] == v {
-                    e += 1;
-                }
-                let mut rest = idx.to_vec();
-                rest.remove(p);
-                parts[v as usize].push((c * e as f64, rest));
-                p += e;
-            }
-        }
-        parts.into_iter().map(ModalPoly::new).collect()
-    }
-
-    pub(crate) fn eval<T: Num>(&self, x: impl Fn(usize) -> T) -> T {
-        let mut s = T::c(0.0);
-        for (c, idx) in self.terms() {
-            let mut t = T::c(c);
-            for &i in idx {
-                t = t * x(i as usize);
-            }
-            s = s + t;
-        }
-        s
-    }
-
-    /// The value at `eta`.
-    pub fn value(&self, eta: &[f64]) -> f64 {
-        self.eval(|i| eta[i])
-    }
-}
 
 /// What a modal body is made of (see [`ModalBody::new`]).
 #[derive(Clone, Debug)]
@@ -123,8 +30,10 @@ pub struct ModalData {
     pub invariants: Invariants,
     /// `Φ` (full body's `n_f` × `k`): maps the full body's point shapes.
     pub phi: DMatrix<f64>,
-    /// `U_nl(Φ η)` (zero without stiffening).
-    pub stiffening: ModalPoly,
+    /// Whether the full body's kernels have geometric stiffening: the
+    /// elastic force is then the full body's at `q_f = Φ η` (`K_ff q_f +
+    /// ∇U_nl`, projected by `Φᵀ`); otherwise `Φᵀ K_ff Φ η` (`invariants.k_ff`).
+    pub stiffening: bool,
     /// The body's own damping matrix `D` (`k × k`, symmetric, positive
     /// semi-definite), e.g. `diag(2 ζ_i ω_i)`; `None`: none.
     pub damping: Option<DMatrix<f64>>,
@@ -158,8 +67,7 @@ impl ModalBody {
     /// A modal body from its data; `inner` is the full body (its point
     /// shapes, times `Φ`, place markers). Checks the sizes, that every
     /// number is finite, `m_ff` symmetric positive definite, `K_ff` and the
-    /// damping symmetric, and that the stiffening polynomial uses the modes
-    /// only.
+    /// damping symmetric.
     pub fn new(inner: Box<dyn Body>, data: ModalData) -> Result<Self> {
         let k = data.invariants.nf();
         let full = inner.layout().clone();
@@ -178,12 +86,6 @@ impl ModalBody {
         if data.labels.len() != k {
             return bad(format!("{} labels for {k} modes", data.labels.len()));
         }
-        if data.stiffening.vars() > k {
-            return bad(format!(
-                "the stiffening energy uses mode {} of {k}",
-                data.stiffening.vars()
-            ));
-        }
         let inv = &data.invariants;
         let finite = |xs: &[f64]| xs.iter().all(|x| x.is_finite());
         let mut ok = finite(&[inv.mass])
@@ -192,8 +94,7 @@ impl ModalBody {
             && finite(inv.theta.as_slice())
             && finite(inv.m_ff.as_slice())
             && finite(inv.k_ff.as_slice())
-            && finite(data.phi.as_slice())
-            && data.stiffening.coefs.iter().all(|c| c.is_finite());
+            && finite(data.phi.as_slice());
         for kk in 0..3 {
             for l in 0..3 {
                 ok &= finite(inv.s_kl[kk][l].as_slice()) && finite(inv.i_kl[kk][l].as_slice());
@@ -230,8 +131,7 @@ impl ModalBody {
             length: full.length,
             description: data.description.clone(),
         };
-        let grad = data.stiffening.gradient(k);
-        let terms = InertiaTerms::new(data.invariants.clone(), grad, planar);
+        let terms = InertiaTerms::new(data.invariants.clone(), !data.stiffening, planar);
         Ok(Self {
             inner,
             data,
@@ -250,6 +150,85 @@ impl ModalBody {
     pub fn full_body(&self) -> &dyn Body {
         &*self.inner
     }
+
+    /// `q_f = Φ η` into `qf`.
+    fn expand(&self, eta: &[f64], qf: &mut [f64]) {
+        let phi = &self.data.phi;
+        qf.iter_mut().for_each(|x| *x = 0.0);
+        for (m, e) in eta.iter().enumerate() {
+            if *e != 0.0 {
+                for (i, x) in qf.iter_mut().enumerate() {
+                    *x += phi[(i, m)] * e;
+                }
+            }
+        }
+    }
+
+    /// Adds the full body's elastic force at `q_f = Φ η`, projected, `Φᵀ
+    /// f_el(Φ η)` (`f_el = K_ff q_f + ∇U_nl`: its element kernels at rest,
+    /// `q̇_f = q̈_f = 0`, frame at rest), to `f`, and with `k_t` its tangent
+    /// `Φᵀ K_t Φ` (`K_t = K_ff + ∇²U_nl`, banded) to `k_t`.
+    fn full_elastic(
+        &self,
+        eta: &[f64],
+        w: &mut BodyWork,
+        f: &mut [f64],
+        k_t: Option<&mut BandBuf>,
+    ) {
+        let n = self.inner.layout().nf;
+        let k = self.layout.nf;
+        let phi = &self.data.phi;
+        let (qf, rest) = w.buf.split_at_mut(n);
+        let (zeros, kphi) = rest.split_at_mut(n);
+        self.expand(eta, qf);
+        let iw = w
+            .inner
+            .as_mut()
+            .expect("ModalBody::work gives the full body's scratch");
+        let state = BodyState {
+            q_f: qf,
+            qd_f: zeros,
+            qdd_f: zeros,
+            frame: [0.0; 9],
+        };
+        match &k_t {
+            None => self
+                .inner
+                .forces(&state, false, &mut iw.work, &mut iw.forces),
+            Some(_) => self.inner.tangent(
+                &state,
+                0.0,
+                0.0,
+                false,
+                &mut iw.work,
+                &mut iw.forces,
+                &mut iw.tangent,
+            ),
+        }
+        for (a, fa) in f.iter_mut().enumerate() {
+            *fa += (0..n).map(|i| phi[(i, a)] * iw.forces.f_f[i]).sum::<f64>();
+        }
+        let Some(k_t) = k_t else { return };
+        // K_t Φ (n × k, row-major), then Φᵀ (K_t Φ).
+        let band = &iw.tangent.k_ff;
+        let hb = band.half_bandwidth();
+        for i in 0..n {
+            let (lo, hi) = (i.saturating_sub(hb), (i + hb).min(n - 1));
+            for m in 0..k {
+                let mut v = 0.0;
+                for j in lo..=hi {
+                    v += band.get(i, j) * phi[(j, m)];
+                }
+                kphi[i * k + m] = v;
+            }
+        }
+        for a in 0..k {
+            for b in 0..k {
+                let v = (0..n).map(|i| phi[(i, a)] * kphi[i * k + b]).sum::<f64>();
+                k_t.add(a, b, v);
+            }
+        }
+    }
 }
 
 impl Body for ModalBody {
@@ -258,13 +237,28 @@ impl Body for ModalBody {
     }
 
     fn work(&self) -> BodyWork {
-        BodyWork::default()
+        if !self.data.stiffening {
+            return BodyWork::default();
+        }
+        // q_f = Φ η, zero velocities and accelerations, K_t Φ.
+        let (n, hb) = (self.inner.layout().nf, self.inner.layout().half_bandwidth);
+        BodyWork {
+            buf: vec![0.0; n * (2 + self.layout.nf)],
+            inner: Some(Box::new(InnerWork {
+                work: self.inner.work(),
+                forces: BodyForces::zeros(n),
+                tangent: BodyTangent::zeros(n, hb),
+            })),
+        }
     }
 
-    fn forces(&self, state: &BodyState, frame_rows: bool, _w: &mut BodyWork, out: &mut BodyForces) {
+    fn forces(&self, state: &BodyState, frame_rows: bool, w: &mut BodyWork, out: &mut BodyForces) {
         out.clear();
         self.terms
             .add_forces(&Inputs::of(state), frame_rows, &self.identity, out);
+        if self.data.stiffening {
+            self.full_elastic(state.q_f, w, &mut out.f_f, None);
+        }
     }
 
     fn tangent(
@@ -277,10 +271,15 @@ impl Body for ModalBody {
         out: &mut BodyForces,
         t: &mut BodyTangent,
     ) {
-        self.forces(state, frame_rows, w, out);
+        out.clear();
         t.clear();
+        let x = Inputs::of(state);
+        self.terms.add_forces(&x, frame_rows, &self.identity, out);
         self.terms
-            .add_tangent(&Inputs::of(state), bp, gp, frame_rows, &self.identity, t);
+            .add_tangent(&x, bp, gp, frame_rows, &self.identity, t);
+        if self.data.stiffening {
+            self.full_elastic(state.q_f, w, &mut out.f_f, Some(&mut t.k_ff));
+        }
     }
 
     fn mass(&self, q_f: &[f64], _w: &mut BodyWork, out: &mut BodyMass) {
@@ -288,10 +287,19 @@ impl Body for ModalBody {
         self.terms.add_mass(q_f, &self.identity, out);
     }
 
-    fn elastic_energy(&self, q_f: &[f64], _w: &mut BodyWork) -> f64 {
-        let k_ff = &self.data.invariants.k_ff;
-        let x = |i: usize| q_f[i];
-        0.5 * bilinear(k_ff, &x, &x) + self.data.stiffening.value(q_f)
+    fn elastic_energy(&self, q_f: &[f64], w: &mut BodyWork) -> f64 {
+        if !self.data.stiffening {
+            let k_ff = &self.data.invariants.k_ff;
+            return 0.5 * bilinear(k_ff, q_f, q_f);
+        }
+        let n = self.inner.layout().nf;
+        let (qf, _) = w.buf.split_at_mut(n);
+        self.expand(q_f, qf);
+        let iw = w
+            .inner
+            .as_mut()
+            .expect("ModalBody::work gives the full body's scratch");
+        self.inner.elastic_energy(qf, &mut iw.work)
     }
 
     fn invariants(&self) -> Invariants {
