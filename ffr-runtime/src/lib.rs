@@ -11,6 +11,8 @@
 //!   [`linalg::BorderedSystem`] (banded elastic blocks bordered by frame and
 //!   constraint rows).
 //! - [`integrator`]: generalized-α (index 3) and RK4–Baumgarte.
+//! - [`linear`]: linear models `ẋ = A x + B u`, `y = C x + D u` on the
+//!   constraint manifold, eigenvalues, static and steadily rotating states.
 
 pub mod assembly;
 mod attached;
@@ -25,6 +27,7 @@ pub mod joint;
 pub mod kernel;
 pub mod kernel_body;
 pub mod linalg;
+pub mod linear;
 pub mod marker;
 pub mod modal;
 pub mod monitor;

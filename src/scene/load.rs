@@ -34,6 +34,15 @@ pub fn load_with(path: &Path, provider: &dyn KernelProvider) -> crate::Result<Sc
     Ok(from_str(&text, &file, &base, provider)?)
 }
 
+/// Read and resolve a scene file to its spec (not built), for commands
+/// that build variants of it (a Campbell diagram's speeds).
+pub fn load_spec(path: &Path) -> crate::Result<crate::scene::SceneSpec> {
+    let file = path.display().to_string();
+    let text = crate::codegen::scene::read(path)?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    Ok(crate::codegen::scene::resolve_str(&text, &file, &base).map_err(scene_error)?)
+}
+
 /// Load a scene from its text; `file` names it in errors, `base` resolves
 /// relative shape paths.
 pub fn from_str(

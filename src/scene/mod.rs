@@ -10,11 +10,13 @@
 //! - [`model`]: the built scene and its output columns;
 //! - [`provider`]: where flexible bodies get their kernels;
 //! - [`run`](mod@run): the run and its recorded columns;
+//! - [`linear`]: linear models (`A, B, C, D`) and Campbell diagrams;
 //! - `emit` (feature `scene-files`): a scene's specialized kernels as Rust.
 
 pub mod build;
 #[cfg(feature = "scene-files")]
 pub mod emit;
+pub mod linear;
 #[cfg(feature = "scene-files")]
 pub mod load;
 pub mod model;

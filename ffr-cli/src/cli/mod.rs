@@ -3,6 +3,7 @@
 
 mod args;
 mod invariants;
+mod linearize;
 mod modes;
 mod run;
 mod spin_up;
@@ -11,6 +12,10 @@ pub use args::{
     BodyArgs, ExportFormat, IntegratorKind, KernelArgs, ParamArgs, ReductionKind, SceneBodyArgs,
 };
 pub use invariants::invariants_json;
+pub use linearize::{
+    campbell, campbell_json, campbell_svg, linear_json, linearize, matrix_market, CampbellArgs,
+    LinearizeArgs,
+};
 pub use modes::{export, modes, modes_json, reducible};
 pub use run::{run_scene, MAX_ECHO_CHARS};
 pub use spin_up::{spin_up, SpinUpArgs};
@@ -97,6 +102,14 @@ pub enum Command {
     },
     /// Run the spin-up beam benchmark (the main job).
     SpinUp(SpinUpArgs),
+    /// A scene's linear model `ẋ = A x + B u`, `y = C x + D u` about a state
+    /// (independent coordinates on the constraint manifold), with its
+    /// eigenvalues; see docs/linear.md.
+    Linearize(LinearizeArgs),
+    /// A Campbell diagram: a scene's frequencies while its driven revolute
+    /// joint turns at constant speeds (steady deformed state, gyroscopic
+    /// terms); see docs/linear.md.
+    Campbell(CampbellArgs),
     /// Work-precision report of the benchmark scenes (report.md, points.csv,
     /// one SVG per scene; see docs/report.md).
     Report(crate::report::ReportArgs),
@@ -240,6 +253,8 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             out,
         }) => export(format, &body, &params, modes, &boundary, &out),
         Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
+        Some(Command::Linearize(args)) => linearize(&args).map(|_| ()),
+        Some(Command::Campbell(args)) => campbell(&args).map(|_| ()),
         Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
         Some(Command::Stability(args)) => crate::stability::run(&args).map(|_| ()),
         Some(Command::Run {

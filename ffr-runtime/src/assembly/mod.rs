@@ -19,7 +19,8 @@
 //! One file per concept, each an `impl Assembly` block: `layout` (where the
 //! unknowns are), `residual`, `iteration_matrix`, `mass` (the mass system),
 //! `constraints` (velocity- and acceleration-level rows, set-up checks),
-//! `solve` (factor and solve), `energy` (monitored quantities),
+//! `solve` (factor and solve), `energy` (monitored quantities), `linear`
+//! (the dense parts `M`, `C`, `K`, `Φ_q` for linear models),
 //! `kinematics` (markers) and `oracle` (finite-difference check of the
 //! iteration matrix).
 
@@ -28,6 +29,7 @@ mod energy;
 mod iteration_matrix;
 mod kinematics;
 mod layout;
+mod linear;
 mod mass;
 mod oracle;
 mod residual;
@@ -42,6 +44,7 @@ use crate::marker::MarkerKin;
 use crate::system::System;
 use kinematics::kin;
 use layout::rigid_motion_in_elastic;
+pub use linear::TangentParts;
 use nalgebra::Vector3;
 
 /// The most entries of the dense border matrix (frame coordinates, joint

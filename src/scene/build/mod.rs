@@ -38,7 +38,7 @@ fn v3(x: [f64; 3]) -> Vector3<f64> {
 
 /// The runtime marker of `m` (a point on a beam's axis is looked up in the
 /// body's mesh).
-fn marker(sys: &System<Box<dyn Body>>, m: &MarkerSpec) -> Result<Marker, SceneError> {
+pub(crate) fn marker(sys: &System<Box<dyn Body>>, m: &MarkerSpec) -> Result<Marker, SceneError> {
     Ok(match m.point {
         MarkerPoint::Ground(p) => Marker::ground(v3(p)),
         MarkerPoint::Origin(b) => Marker::origin(BodyId(b)),

@@ -1,0 +1,511 @@
+//! Linear models and Campbell diagrams of scenes ([`crate::runtime::linear`]
+//! does the mathematics).
+//!
+//! - Inputs by name: `jointN` (the `N`-th `[[joints]]` entry, 1-based, a
+//!   revolute joint whose angle is not prescribed): a torque about the
+//!   joint's axis on `b` (`−τ` on `a`), N m; `forceN` (the `N`-th
+//!   `[[forces]]` entry): a point force's magnitude along its direction
+//!   (global, or the body's for a follower force), N, or a torque's, N m;
+//!   `driveN`: the acceleration (rad/s², m/s²) of a perturbation of joint
+//!   `N`'s drive, whose angle (or slide) and rate become states.
+//!   By default every joint with a motor and every point force and torque.
+//! - Outputs: the scene's `[[outputs]]` by name; by default all but the
+//!   energies (which are not linear outputs).
+//! - The state: the scene's at time `T` (run to `T` with its integrator,
+//!   `T = 0` the consistent initial state), or its static equilibrium under
+//!   its loads at `t = 0` ([`At::Static`]).
+//! - Campbell diagrams: the driven revolute joint to the ground turns at
+//!   constant rates; at each, the steady deformed state in the rotating
+//!   frame (Newton on the residual) and the eigenvalues about it.
+
+use crate::runtime::linear::{
+    eigenvalues, linearize, steady_state, InputLoad, LinearInput, LinearModel, LinearOutput,
+    SteadyMotion,
+};
+use crate::runtime::nalgebra::{Complex, DMatrix, DVector, Vector3};
+use crate::runtime::spec::scene::{
+    BodyKind, ForceKind, JointKind, MarkerPoint, ProfileSpec, SceneSpec,
+};
+use crate::runtime::spec::FrameModel;
+use crate::runtime::{ForceAxes, ForceElement, State, TorqueLaw};
+use crate::scene::model::{OutputKind, Scene};
+use crate::scene::provider::KernelProvider;
+use std::ops::ControlFlow;
+use std::sync::Arc;
+
+/// Where a scene is linearized.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum At {
+    /// Its state at time `T` (s).
+    Time(f64),
+    /// Its static equilibrium under its loads at `t = 0`.
+    Static,
+}
+
+/// The inputs a scene offers by default (names as in the module
+/// documentation).
+pub fn default_inputs(spec: &SceneSpec) -> Vec<String> {
+    let mut out: Vec<String> = spec
+        .joints
+        .iter()
+        .enumerate()
+        .filter(|(_, j)| j.motor.is_some())
+        .map(|(i, _)| format!("joint{}", i + 1))
+        .collect();
+    out.extend(
+        spec.forces
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| matches!(f.kind, ForceKind::Point { .. } | ForceKind::Torque { .. }))
+            .map(|(i, _)| format!("force{}", i + 1)),
+    );
+    out
+}
+
+fn index_of(name: &str, prefix: &str) -> Option<usize> {
+    name.strip_prefix(prefix)?
+        .parse::<usize>()
+        .ok()
+        .filter(|&k| k >= 1)
+}
+
+/// The unit loads of the named inputs.
+pub fn inputs(
+    spec: &SceneSpec,
+    scene: &Scene,
+    names: &[String],
+) -> crate::Result<Vec<LinearInput>> {
+    let sys = &scene.system;
+    let avail = || default_inputs(spec).join(", ");
+    let mut out = Vec::new();
+    for name in names {
+        let load = if let Some(k) = index_of(name, "drive") {
+            let j = spec.joints.get(k - 1).ok_or_else(|| {
+                format!("input `{name}`: the scene has {} joints", spec.joints.len())
+            })?;
+            if j.drive.is_none() {
+                return Err(
+                    format!("input `{name}`: joint {k} ({}) has no drive", j.b.text).into(),
+                );
+            }
+            let constraint = drive_constraint(spec, k - 1).ok_or_else(|| {
+                format!(
+                    "input `{name}`: joint {k}'s drive is folded into prescribed coordinates; linearize the scene through `linearize_scene`, which unfolds it"
+                )
+            })?;
+            InputLoad::Drive { constraint }
+        } else if let Some(k) = index_of(name, "joint") {
+            let j = spec.joints.get(k - 1).ok_or_else(|| {
+                format!("input `{name}`: the scene has {} joints", spec.joints.len())
+            })?;
+            if j.kind != JointKind::Revolute || j.folds.is_some() || j.drive.is_some() {
+                return Err(format!(
+                    "input `{name}`: joint {k} ({}) is {}: a torque input needs a revolute joint whose angle is free",
+                    j.b.text,
+                    if j.kind != JointKind::Revolute { "not revolute" } else { "driven (its angle is prescribed)" }
+                )
+                .into());
+            }
+            let a = j.a.as_ref().ok_or("a revolute joint has two markers")?;
+            InputLoad::Force(Box::new(ForceElement::Torque {
+                a: super::build::marker(sys, a)?,
+                b: super::build::marker(sys, &j.b)?,
+                law: TorqueLaw::Torque(Arc::new(|_| 1.0)),
+            }))
+        } else if let Some(k) = index_of(name, "force") {
+            let f = spec.forces.get(k - 1).ok_or_else(|| {
+                format!("input `{name}`: the scene has {} forces", spec.forces.len())
+            })?;
+            InputLoad::Force(Box::new(match &f.kind {
+                ForceKind::Point {
+                    at,
+                    force,
+                    follower,
+                } => {
+                    let dir = Vector3::from(*force);
+                    let norm = dir.norm();
+                    if !(norm > 0.0) {
+                        return Err(format!("input `{name}`: force {k} is zero and has no direction").into());
+                    }
+                    let unit = dir / norm;
+                    ForceElement::Point {
+                        marker: super::build::marker(sys, at)?,
+                        force: Arc::new(move |_| unit),
+                        axes: if *follower { ForceAxes::Marker } else { ForceAxes::Global },
+                    }
+                }
+                ForceKind::Torque { a, b, .. } => ForceElement::Torque {
+                    a: super::build::marker(sys, a)?,
+                    b: super::build::marker(sys, b)?,
+                    law: TorqueLaw::Torque(Arc::new(|_| 1.0)),
+                },
+                _ => {
+                    return Err(format!(
+                        "input `{name}`: force {k} is a spring–damper, part of the system, not an input"
+                    )
+                    .into())
+                }
+            }))
+        } else {
+            return Err(format!(
+                "unknown input `{name}`: inputs are `jointN` (a torque in revolute joint N), `forceN` (the amplitude of force N) and `driveN` (the acceleration of joint N's drive); this scene's defaults are: {}",
+                avail()
+            )
+            .into());
+        };
+        out.push(LinearInput {
+            name: name.clone(),
+            load,
+        });
+    }
+    Ok(out)
+}
+
+/// The system constraint of joint `ji`'s drive (0-based in `[[joints]]`),
+/// as the builder adds them: a ground or folded joint none, any other its
+/// own and then its drive's.
+fn drive_constraint(spec: &SceneSpec, ji: usize) -> Option<usize> {
+    let mut c = 0;
+    for (i, j) in spec.joints.iter().enumerate() {
+        if j.kind == JointKind::Ground || j.folds.is_some() {
+            if i == ji {
+                return None;
+            }
+            continue;
+        }
+        if i == ji {
+            return j.drive.as_ref().map(|_| c + 1);
+        }
+        c += 1 + usize::from(j.drive.is_some());
+    }
+    None
+}
+
+/// The outputs a scene offers by default: every output but the energies.
+pub fn default_outputs(scene: &Scene) -> Vec<String> {
+    scene
+        .outputs
+        .iter()
+        .filter(|o| !matches!(o.kind, OutputKind::Energy(_)))
+        .map(|o| o.name.clone())
+        .collect()
+}
+
+/// The named outputs.
+pub fn outputs(scene: &Scene, names: &[String]) -> crate::Result<Vec<LinearOutput>> {
+    names
+        .iter()
+        .map(|name| {
+            let o = scene.outputs.iter().find(|o| &o.name == name).ok_or_else(|| {
+                format!(
+                    "unknown output `{name}`: the scene's linear outputs are: {}",
+                    default_outputs(scene).join(", ")
+                )
+            })?;
+            if matches!(o.kind, OutputKind::Energy(_)) {
+                return Err(format!(
+                    "output `{name}` is an energy, not a linear output (positions, velocities, deflections and angles are)"
+                )
+                .into());
+            }
+            Ok(LinearOutput {
+                name: o.name.clone(),
+                kind: o.kind,
+                marker: o.marker.clone(),
+                relative_to: o.relative_to.clone(),
+            })
+        })
+        .collect()
+}
+
+/// The scene's state at `at`.
+pub fn operating_state(scene: &Scene, at: At) -> crate::Result<State> {
+    let sys = &scene.system;
+    match at {
+        At::Static => {
+            let start = sys.initial_state(0.0)?;
+            Ok(steady_state(sys, 0.0, &start, SteadyMotion::Rest)?)
+        }
+        At::Time(t) if !(t.is_finite() && t >= 0.0) => {
+            Err(format!("--at {t}: a time must be finite and ≥ 0").into())
+        }
+        At::Time(0.0) => Ok(sys.initial_state(0.0)?),
+        At::Time(t) => {
+            let s = sys.simulate(t, scene.dt.min(t), &scene.integrator, |_| {
+                ControlFlow::Continue(())
+            })?;
+            Ok(s.last)
+        }
+    }
+}
+
+/// Linearize the scene `spec` at `at` with the named inputs and outputs
+/// (`None`: the defaults), its flexible bodies' kernels from `provider`. A
+/// drive input on a joint the reader folded into prescribed coordinates
+/// (a revolute joint to the ground at a body's frame origin) unfolds it
+/// into a revolute joint and a driving constraint, whose driver the input
+/// perturbs (the same motion, the same eigenvalues, two more states).
+pub fn linearize_scene(
+    spec: &SceneSpec,
+    provider: &dyn KernelProvider,
+    at: At,
+    input_names: Option<&[String]>,
+    output_names: Option<&[String]>,
+) -> crate::Result<LinearModel> {
+    let default_in = default_inputs(spec);
+    let names = input_names.unwrap_or(&default_in);
+    let mut spec = spec.clone();
+    for n in names {
+        if let Some(k) = index_of(n, "drive") {
+            let Some(j) = spec.joints.get_mut(k - 1) else {
+                continue;
+            };
+            if let (Some(b), Some(_)) = (j.folds, &j.drive) {
+                j.folds = None;
+                // The body's frame is free now: the general kernels.
+                if let BodyKind::Flexible(f) = &mut spec.bodies[b].kind {
+                    f.options.frame = FrameModel::Free;
+                }
+            }
+        }
+    }
+    let scene = super::build(&spec, provider)?;
+    let ins = inputs(&spec, &scene, names)?;
+    let outs = match output_names {
+        Some(n) => outputs(&scene, n)?,
+        None => outputs(&scene, &default_outputs(&scene))?,
+    };
+    let state = operating_state(&scene, at)?;
+    Ok(linearize(&scene.system, &state, &ins, &outs)?)
+}
+
+/// One mode of a Campbell diagram.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CampbellMode {
+    /// `|λ|` (rad/s).
+    pub omega: f64,
+    /// `|λ|/2π` (Hz).
+    pub hz: f64,
+    /// Damping ratio `−Re λ/|λ|`.
+    pub zeta: f64,
+    /// The dominant motion: `flap` (out of the plane of rotation, body z),
+    /// `lag` (in the plane, body y), `axial`, `torsion`, `rigid` (a frame
+    /// coordinate), or the coordinate's own label.
+    pub label: String,
+}
+
+/// The kind of motion of a coordinate label (`blade.uz_3` → `flap`).
+fn motion_kind(label: &str) -> String {
+    let tail = label.rsplit('.').next().unwrap_or(label);
+    let kind = tail.split('_').next().unwrap_or(tail);
+    match kind {
+        "ux" => "axial",
+        "uy" | "rz" => "lag",
+        "uz" | "ry" => "flap",
+        "rx" => "torsion",
+        "x" | "y" | "z" | "theta" | "e0" | "e1" | "e2" | "e3" => "rigid",
+        other => other,
+    }
+    .to_string()
+}
+
+/// The modes of a linear model, one per oscillating pair (and each real
+/// eigenvalue), lowest `|λ|` first, at most `count`, labelled by the
+/// kinetic-energy participation `Re(q̄_i (M q)_i)` of each coordinate kind
+/// in the eigenvector (inverse iteration on `λ²M̂ + λĈ + K̂`; the modes of
+/// a repeated eigenvalue `M̂`-orthogonal to each other).
+pub fn modes(sys_labels: &[String], model: &LinearModel, count: usize) -> Vec<CampbellMode> {
+    let ev = eigenvalues(&model.a);
+    let nz = model.independent.len();
+    let mut out = Vec::new();
+    // The eigenvectors of the current cluster of equal eigenvalues (a double
+    // frequency: each vector is kept M̂-orthogonal to the earlier ones, so
+    // that the two modes of a pair get their two motions).
+    let mut cluster: Vec<(Complex<f64>, DVector<Complex<f64>>)> = Vec::new();
+    for l in ev {
+        if out.len() >= count {
+            break;
+        }
+        let w = l.norm();
+        if l.im < -1e-9 * w {
+            continue; // the conjugate of a pair
+        }
+        cluster.retain(|(m, _)| (m - l).norm() <= 1e-6 * (1.0 + w));
+        let (label, z) = mode_label(sys_labels, model, nz, l, &cluster);
+        cluster.push((l, z));
+        out.push(CampbellMode {
+            omega: w,
+            hz: w / std::f64::consts::TAU,
+            zeta: if w > 0.0 { -l.re / w } else { 0.0 },
+            label,
+        });
+    }
+    out
+}
+
+/// The label of the mode of eigenvalue `l` and its vector `z` (independent
+/// coordinates), by inverse iteration on `λ²M̂ + λĈ + K̂`, orthogonal (in
+/// `M̂`) to the vectors `prev` of the same eigenvalue.
+fn mode_label(
+    labels: &[String],
+    model: &LinearModel,
+    nz: usize,
+    l: Complex<f64>,
+    prev: &[(Complex<f64>, DVector<Complex<f64>>)],
+) -> (String, DVector<Complex<f64>>) {
+    let c = |x: f64| Complex::new(x, 0.0);
+    if nz == 0 {
+        return (String::new(), DVector::zeros(0));
+    }
+    let mh = model.m_hat.map(c);
+    let deflate = |z: &mut DVector<Complex<f64>>| {
+        for (_, v) in prev {
+            let mv = &mh * v;
+            let num = mv.dotc(z);
+            let den = mv.dotc(v);
+            if den.norm() > 0.0 {
+                *z -= v * (num / den);
+            }
+        }
+    };
+    // P(λ) shifted by a little so that it factors; three inverse iterations.
+    let s = l + Complex::new(1e-9 * (1.0 + l.norm()), 1e-9 * (1.0 + l.norm()));
+    let p = DMatrix::from_fn(nz, nz, |i, j| {
+        s * s * c(model.m_hat[(i, j)]) + s * c(model.c_hat[(i, j)]) + c(model.k_hat[(i, j)])
+    });
+    let lu = p.lu();
+    let mut z = DVector::from_fn(nz, |i, _| Complex::new(1.0 + 0.1 * (i as f64).sin(), 0.0));
+    deflate(&mut z);
+    for _ in 0..3 {
+        match lu.solve(&z) {
+            Some(mut x) => {
+                deflate(&mut x);
+                let n = x.iter().map(|v| v.norm()).fold(0.0, f64::max);
+                if !(n > 0.0) || !n.is_finite() {
+                    break;
+                }
+                z = x / c(n);
+            }
+            None => break,
+        }
+    }
+    let nb = model.basis.map(c);
+    let qv = &nb * &z;
+    let mq = model.parts.m.map(c) * &qv;
+    let mut sums: Vec<(String, f64)> = Vec::new();
+    for (i, &g) in model.parts.free.iter().enumerate() {
+        let e = (qv[i].conj() * mq[i]).re.abs();
+        let k = motion_kind(&labels[g]);
+        match sums.iter_mut().find(|(n, _)| *n == k) {
+            Some((_, s)) => *s += e,
+            None => sums.push((k, e)),
+        }
+    }
+    let label = sums
+        .into_iter()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(k, _)| k)
+        .unwrap_or_default();
+    (label, z)
+}
+
+/// A Campbell diagram: per speed, the lowest `count` modes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Campbell {
+    /// The speeds `Ω` (rad/s).
+    pub speeds: Vec<f64>,
+    /// The joint (0-based index in `[[joints]]`) that turns.
+    pub joint: usize,
+    /// Per speed, the modes, lowest first.
+    pub modes: Vec<Vec<CampbellMode>>,
+}
+
+/// The Campbell diagram of the scene `spec`: for each speed `Ω` the driven
+/// revolute joint to the ground (`joint`, 0-based in `[[joints]]`, or the
+/// first) turns at the constant rate `Ω` (its drive replaced); the steady
+/// state of the rotating system at `t = 0` (rigid rotation about the
+/// joint's axis, global z through its ground point; elastic coordinates
+/// steady), found by Newton from the undeformed state; the eigenvalues of
+/// the linear model about it.
+pub fn campbell(
+    spec: &SceneSpec,
+    provider: &dyn KernelProvider,
+    speeds: &[f64],
+    joint: Option<usize>,
+    count: usize,
+) -> crate::Result<Campbell> {
+    let driven = |j: &crate::runtime::spec::scene::JointSpec| {
+        j.kind == JointKind::Revolute && j.drive.is_some()
+    };
+    let ji = match joint {
+        Some(k) => {
+            let j = spec.joints.get(k).ok_or_else(|| {
+                format!("--joint {}: the scene has {} joints", k + 1, spec.joints.len())
+            })?;
+            if !driven(j) {
+                return Err(format!(
+                    "--joint {}: joint {} ({}) is not a revolute joint with a drive",
+                    k + 1,
+                    k + 1,
+                    j.b.text
+                )
+                .into());
+            }
+            k
+        }
+        None => spec.joints.iter().position(driven).ok_or(
+            "the scene has no revolute joint with a drive: a Campbell diagram turns one at constant speeds",
+        )?,
+    };
+    let j = &spec.joints[ji];
+    let center = match j.a.as_ref().map(|a| a.point) {
+        Some(MarkerPoint::Ground(p)) => p,
+        _ => {
+            return Err(format!(
+                "joint {} ({}): a Campbell diagram needs the driven joint between the ground (`a = \"ground@[…]\"`) and a body",
+                ji + 1,
+                j.b.text
+            )
+            .into())
+        }
+    };
+    if let Some((g, gat)) = &spec.gravity {
+        if g[0] != 0.0 || g[1] != 0.0 {
+            return Err(crate::SceneError {
+                location: Some(gat.clone()),
+                message: format!(
+                    "gravity {g:?} is not along the rotation axis (global z): it turns with the rotor in the rotating frame, so there is no steady state to linearize about"
+                ),
+            }
+            .into());
+        }
+    }
+    let (profile, at) = j.drive.clone().expect("driven");
+    let start = match profile {
+        ProfileSpec::SpinUp { start, .. }
+        | ProfileSpec::ConstantRate { start, .. }
+        | ProfileSpec::Harmonic { start, .. } => start,
+        ProfileSpec::Constant(v) => v,
+    };
+    let mut modes = Vec::with_capacity(speeds.len());
+    for &w in speeds {
+        if !w.is_finite() {
+            return Err(format!("--speeds: {w} is not a finite rate").into());
+        }
+        let mut s = spec.clone();
+        s.joints[ji].drive = Some((ProfileSpec::ConstantRate { start, rate: w }, at.clone()));
+        let scene = super::build(&s, provider)?;
+        let sys = &scene.system;
+        let init = sys.initial_state(0.0)?;
+        let state = steady_state(sys, 0.0, &init, SteadyMotion::Rotation { center, omega: w })
+            .map_err(|e| format!("Ω = {w} rad/s: {e}"))?;
+        let model = linearize(sys, &state, &[], &[])?;
+        let labels = crate::runtime::linear::coordinate_labels(sys);
+        modes.push(self::modes(&labels, &model, count));
+    }
+    Ok(Campbell {
+        speeds: speeds.to_vec(),
+        joint: ji,
+        modes,
+    })
+}
