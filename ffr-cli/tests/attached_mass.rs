@@ -20,7 +20,7 @@
 mod common;
 use ffr::runtime::nalgebra::Matrix3;
 use ffr::runtime::spec::AttachedMass;
-use ffr::runtime::{Assembly, Body, GeneralizedAlpha};
+use ffr::runtime::Body;
 use ffr::scene::{self, DefaultKernels};
 use ffr_cli::benchmarks::free_floating::{check_rates_of, free_body, StateScales};
 use ffr_cli::benchmarks::pendulum::Beam;
@@ -413,21 +413,7 @@ fn free_body_with_masses_conserves_momentum_to_round_off() {
 fn mechanism_with_masses_iteration_matrix_matches_differences() {
     for dim in [2, 3] {
         let sys = common::mechanism_with_masses(dim, &free_masses(dim == 2));
-        let integrator = ffr::runtime::Integrator::GeneralizedAlpha(GeneralizedAlpha::default());
-        let mut state = None;
-        sys.simulate(0.2, 1e-3, &integrator, |v| {
-            state = Some(v.state.clone());
-            std::ops::ControlFlow::Continue(())
-        })
-        .unwrap();
-        let s = state.unwrap();
-        let (am, af, gamma, beta) = GeneralizedAlpha::default().coefficients();
-        let h = 1e-3;
-        let bp = (1.0 - am) / ((1.0 - af) * beta * h * h);
-        let gp = gamma / (beta * h);
-        let mut asm = Assembly::new(&sys).unwrap();
-        let lam: Vec<f64> = s.lambda.iter().map(|l| l / bp).collect();
-        let (err, col) = asm.iteration_matrix_error(s.t, &s.q, &s.v, &s.a, &lam, bp, gp);
+        let (err, col) = common::iteration_matrix_error(&sys, 0.2);
         println!("mechanism with masses, dim {dim}: {err:e} at {col}");
         // The bound of tests/jacobian.rs for the same mechanism.
         assert!(err < 1e-5, "dim {dim}: {err:e} at column {col}");

@@ -46,21 +46,7 @@ fn spin_up_iteration_matrix_matches_differences() {
 fn mechanism_iteration_matrix_matches_differences() {
     for dim in [2, 3] {
         let sys = common::mechanism(dim);
-        let integrator = ffr::runtime::Integrator::GeneralizedAlpha(GeneralizedAlpha::default());
-        let mut state = None;
-        sys.simulate(0.2, 1e-3, &integrator, |v| {
-            state = Some(v.state.clone());
-            std::ops::ControlFlow::Continue(())
-        })
-        .unwrap();
-        let s = state.unwrap();
-        let (am, af, gamma, beta) = GeneralizedAlpha::default().coefficients();
-        let h = 1e-3;
-        let bp = (1.0 - am) / ((1.0 - af) * beta * h * h);
-        let gp = gamma / (beta * h);
-        let mut asm = Assembly::new(&sys).unwrap();
-        let lam: Vec<f64> = s.lambda.iter().map(|l| l / bp).collect();
-        let (err, col) = asm.iteration_matrix_error(s.t, &s.q, &s.v, &s.a, &lam, bp, gp);
+        let (err, col) = common::iteration_matrix_error(&sys, 0.2);
         println!("mechanism dim {dim}: {err:e} at {col}");
         assert!(err < 1e-5, "dim {dim}: {err:e} at column {col}");
     }

@@ -12,7 +12,7 @@
 
 use super::varying::ElementInvariants;
 use super::Shape;
-use nalgebra::{DMatrix, DVector, Matrix3, Matrix3xX, SymmetricEigen, Vector3};
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 
 /// The invariants (element coordinates) of a mass `m` with inertia tensor
 /// `j` about its centre, attached at `ξ` of the element `[x₀, x₀ + l]`. In a
@@ -85,16 +85,7 @@ pub fn rigid_body(
         rest -= 2.0 * w;
     }
     points.push((Vector3::zeros(), rest));
-    let mut r = ElementInvariants {
-        mass: 0.0,
-        s_t0: Vector3::zeros(),
-        s_bar: Matrix3xX::zeros(ne),
-        s_kl: std::array::from_fn(|_| std::array::from_fn(|_| DMatrix::zeros(ne, ne))),
-        i_kl: std::array::from_fn(|_| std::array::from_fn(|_| DVector::zeros(ne))),
-        theta: Matrix3::zeros(),
-        m_ff: DMatrix::zeros(ne, ne),
-        k_ff: DMatrix::zeros(ne, ne),
-    };
+    let mut r = ElementInvariants::zeros(ne);
     let (_, vp, wp) = shape.centerline_grad(l, xi);
     for (dd, w) in points {
         let mut s = shape.elem_s(l, xi, dd[1] / l, dd[2] / l);

@@ -78,6 +78,22 @@ pub struct RefInvariants {
     pub k_ff: DMatrix<f64>,
 }
 
+impl RefInvariants {
+    /// All zero, for `n` coordinates.
+    pub fn zeros(n: usize) -> Self {
+        RefInvariants {
+            mass: 0.0,
+            s_t0: Vector3::zeros(),
+            s_bar: Matrix3xX::zeros(n),
+            s_kl: std::array::from_fn(|_| std::array::from_fn(|_| DMatrix::zeros(n, n))),
+            i_kl: std::array::from_fn(|_| std::array::from_fn(|_| DVector::zeros(n))),
+            theta: Matrix3::zeros(),
+            m_ff: DMatrix::zeros(n, n),
+            k_ff: DMatrix::zeros(n, n),
+        }
+    }
+}
+
 /// Gauss–Legendre points `(x_i, w_i)` on `[a, b]`: `∫f ≈ Σ w_i f(x_i)`, exact to degree `2n−1`.
 pub fn gauss_legendre(n: usize, a: f64, b: f64) -> Vec<(f64, f64)> {
     assert!(n >= 1, "gauss_legendre needs at least one point");
@@ -550,17 +566,7 @@ impl RefBody {
     }
 
     fn empty_invariants(&self) -> RefInvariants {
-        let nf = self.nf();
-        RefInvariants {
-            mass: 0.0,
-            s_t0: Vector3::zeros(),
-            s_bar: Matrix3xX::zeros(nf),
-            s_kl: std::array::from_fn(|_| std::array::from_fn(|_| DMatrix::zeros(nf, nf))),
-            i_kl: std::array::from_fn(|_| std::array::from_fn(|_| DVector::zeros(nf))),
-            theta: Matrix3::zeros(),
-            m_ff: DMatrix::zeros(nf, nf),
-            k_ff: DMatrix::zeros(nf, nf),
-        }
+        RefInvariants::zeros(self.nf())
     }
 
     /// Consistent invariants by volume quadrature; `m_ff = S̄_xx + S̄_yy + S̄_zz`.

@@ -19,7 +19,7 @@
 //! torsion `∫GJ φ'² dx`.
 
 use super::{gauss_legendre, Shape};
-use nalgebra::{DMatrix, DVector, Matrix3, Matrix3xX, Vector3};
+use nalgebra::{DVector, Vector3};
 
 /// The section resultants at one station `x` (SI units).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -105,18 +105,9 @@ fn section_points(w: f64, m: [[f64; 2]; 2]) -> [(f64, f64, f64); 4] {
     ]
 }
 
-/// One element's invariants (theory names), `n_e` element coordinates.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ElementInvariants {
-    pub mass: f64,
-    pub s_t0: Vector3<f64>,
-    pub s_bar: Matrix3xX<f64>,
-    pub s_kl: [[DMatrix<f64>; 3]; 3],
-    pub i_kl: [[DVector<f64>; 3]; 3],
-    pub theta: Matrix3<f64>,
-    pub m_ff: DMatrix<f64>,
-    pub k_ff: DMatrix<f64>,
-}
+/// One element's invariants (theory names), `n_e` element coordinates: the
+/// body's type over an element's coordinates.
+pub type ElementInvariants = super::RefInvariants;
 
 /// Gauss points per piece: `S_kᵀ S_l` is of degree 6 in `ξ`, times a linear
 /// property 7; 6 points integrate degree ≤ 11.
@@ -147,16 +138,7 @@ pub fn element_invariants(
     l: f64,
 ) -> ElementInvariants {
     let ne = shape.elem_dofs();
-    let mut r = ElementInvariants {
-        mass: 0.0,
-        s_t0: Vector3::zeros(),
-        s_bar: Matrix3xX::zeros(ne),
-        s_kl: std::array::from_fn(|_| std::array::from_fn(|_| DMatrix::zeros(ne, ne))),
-        i_kl: std::array::from_fn(|_| std::array::from_fn(|_| DVector::zeros(ne))),
-        theta: Matrix3::zeros(),
-        m_ff: DMatrix::zeros(ne, ne),
-        k_ff: DMatrix::zeros(ne, ne),
-    };
+    let mut r = ElementInvariants::zeros(ne);
     let planar = shape == Shape::Beam2;
     for (xi, wx) in element_points(stations, x0, l) {
         let s = section_at(stations, x0 + xi * l);

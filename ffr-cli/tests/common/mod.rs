@@ -103,5 +103,27 @@ pub fn mechanism_with_masses(dim: usize, masses: &[AttachedMass]) -> System<Box<
     sys.set_gravity(Vector3::new(0.0, -9.81, 0.0)).unwrap();
     sys
 }
+/// The largest column error of the generalized-α iteration matrix of `sys`
+/// against central differences of its residual (and the column), at the
+/// state reached after `t_end` s with steps of 1 ms.
+pub fn iteration_matrix_error(sys: &System<Box<dyn Body>>, t_end: f64) -> (f64, usize) {
+    use ffr::runtime::{Assembly, GeneralizedAlpha, Integrator};
+    let integrator = Integrator::GeneralizedAlpha(GeneralizedAlpha::default());
+    let h = 1e-3;
+    let mut state = None;
+    sys.simulate(t_end, h, &integrator, |v| {
+        state = Some(v.state.clone());
+        std::ops::ControlFlow::Continue(())
+    })
+    .unwrap();
+    let s = state.unwrap();
+    let (am, af, gamma, beta) = GeneralizedAlpha::default().coefficients();
+    let bp = (1.0 - am) / ((1.0 - af) * beta * h * h);
+    let gp = gamma / (beta * h);
+    let mut asm = Assembly::new(sys).unwrap();
+    let lam: Vec<f64> = s.lambda.iter().map(|l| l / bp).collect();
+    asm.iteration_matrix_error(s.t, &s.q, &s.v, &s.a, &lam, bp, gp)
+}
+
 pub mod cli;
 pub mod outputs;
