@@ -55,8 +55,10 @@ fn total_mass_static_moment_and_theta_xx() {
                         };
                         assert_eq!(inv.theta[2][2], zz);
                     } else {
-                        // Point masses at the nodes: the trapezoidal rule of ∫ρAx² dx.
-                        let expect = (0..=n as i64)
+                        // Nodal masses: the trapezoidal rule of ∫ρAx² dx, plus
+                        // each element end's HRZ spread along the axis,
+                        // 2N · (ρA l/2) l²/39 = ρA L³/(39 N²).
+                        let trapezoid = (0..=n as i64)
                             .map(|j| {
                                 let w = if j == 0 || j == n as i64 {
                                     rat(1, 2)
@@ -66,6 +68,7 @@ fn total_mass_static_moment_and_theta_xx() {
                                 w * rat(j * j, (n * n * n) as i64)
                             })
                             .fold(Rational::zero(), |a, b| a + b);
+                        let expect = trapezoid + rat(1, 39 * (n * n) as i64);
                         assert_eq!(
                             inv.theta[0][0],
                             mono(expect, &[(L, 3), (Rho, 1), (Area, 1)])
@@ -273,7 +276,9 @@ fn m_ff_is_the_sum_of_the_diagonal_s_kl_and_s_lk_is_the_transpose() {
 /// The element invariants the kernels are generated from, in `l` and the
 /// element offset `x₀`: `m = ρAl`, `S_t0,x = ρAl (x₀ + l/2)`,
 /// `Θ_xx = ρA ∫ x² dx = ρAl (x₀² + x₀ l + l²/3)` (consistent) and
-/// `½ρAl (x₀² + (x₀ + l)²)` (lumped: half the mass at each end).
+/// `½ρAl (x₀² + (x₀ + l)²) + 2 ρAl·l²/78` (lumped: half the mass at each
+/// end, each spread along the axis by the HRZ rotational inertia
+/// `D_p = m_p l²/39`).
 #[test]
 fn element_invariants_in_l_and_x0() {
     use ffr_codegen::body::element_invariants;
@@ -296,7 +301,11 @@ fn element_invariants_in_l_and_x0() {
                     .mul(&x0)
                     .add(&x0.mul(&l))
                     .add(&l.mul(&l).scale(&rat(1, 3))),
-                Formalism::Lumped => x0.mul(&x0).add(&x0.add(&l).pow(2)).scale(&rat(1, 2)),
+                Formalism::Lumped => x0
+                    .mul(&x0)
+                    .add(&x0.add(&l).pow(2))
+                    .scale(&rat(1, 2))
+                    .add(&l.mul(&l).scale(&rat(1, 39))),
             };
             assert_eq!(inv.theta[0][0], m.mul(&theta), "{shape} {f}");
             // The element K does not depend on where the element is.
