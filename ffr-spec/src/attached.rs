@@ -39,15 +39,14 @@ impl AttachedMass {
     /// enters a planar body's equations).
     pub fn second_moments(&self, dim: usize) -> [[f64; 3]; 3] {
         let j = &self.inertia;
-        let tr = j[0][0] + j[1][1] + j[2][2];
-        let mut d: [[f64; 3]; 3] = std::array::from_fn(|a| {
-            std::array::from_fn(|b| if a == b { 0.5 * tr } else { 0.0 } - j[a][b])
-        });
         if dim == 2 {
             let h = 0.5 * j[2][2];
-            d = [[h, 0.0, 0.0], [0.0, h, 0.0], [0.0, 0.0, 0.0]];
+            return [[h, 0.0, 0.0], [0.0, h, 0.0], [0.0, 0.0, 0.0]];
         }
-        d
+        let tr = j[0][0] + j[1][1] + j[2][2];
+        std::array::from_fn(|a| {
+            std::array::from_fn(|b| if a == b { 0.5 * tr } else { 0.0 } - j[a][b])
+        })
     }
 
     /// Checks the mass for a body of axis length `length` and dimension
