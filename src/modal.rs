@@ -8,13 +8,12 @@
 
 use crate::codegen::body::ExactInvariants;
 use crate::codegen::limits::check_params;
-use crate::codegen::modal::{self, reduce, rigid_body_modes, ModalBasis, ModeKind, Reduction};
+use crate::codegen::modal::{self, reduce, rigid_body_modes, ModalBasis, Reduction};
 use crate::codegen::poly::{Param, Poly, Sym};
 use crate::codegen::{BodySpec, Shape};
 use crate::invariants::check_invariants;
 use crate::kernels::BeamSpec;
 use crate::runtime::modal::{ModalBody, ModalData};
-use crate::runtime::nalgebra::DMatrix;
 use crate::runtime::spec::Stiffening;
 use crate::runtime::spec::{Formalism, Params, Reference};
 use crate::runtime::Body;
@@ -351,25 +350,6 @@ impl ReducibleBody {
     }
 }
 
-/// What the basis is: `modal truncation` or `Craig-Bampton`, `+ static
-/// modes` when [`modal::augment`] added some.
-pub fn reduction_name(basis: &ModalBasis) -> &'static str {
-    let cb = basis
-        .kinds
-        .iter()
-        .any(|k| matches!(k, ModeKind::Constraint { .. }));
-    let st = basis
-        .kinds
-        .iter()
-        .any(|k| matches!(k, ModeKind::Static { .. }));
-    match (cb, st) {
-        (true, false) => "Craig-Bampton",
-        (true, true) => "Craig-Bampton + static modes",
-        (false, false) => "modal truncation",
-        (false, true) => "modal truncation + static modes",
-    }
-}
-
 /// How a flexible body is reduced to modes in a scene (keys `modes`,
 /// `boundary`, `static_modes`, `modal_damping`) and by `ffr spin-up --modes`.
 pub use crate::runtime::spec::scene::ModalSettings;
@@ -394,61 +374,41 @@ impl ReducibleBody {
             )
             .into());
         }
-        let normal = settings.modes;
-        let base = self.reduce(Some(normal), &settings.boundary, "`modes`")?;
-        let basis = if settings.static_modes {
-            let u_nl =
-                modal::substitute_params(&self.spec.stiffening_energy(stiffening), &self.params)?;
-            let loads =
-                modal::static_loads(&self.invariants, &u_nl, &base.phi, base.frequencies.len())?;
-            modal::augment(&base, &self.invariants.m_ff, &self.invariants.k_ff, &loads)?
-        } else {
-            base
-        };
-        let k = basis.len();
-        let n_normal = basis.frequencies.len();
-        let zeta: Vec<f64> = match settings.damping.len() {
-            0 => vec![0.0; n_normal],
-            1 => vec![settings.damping[0]; n_normal],
-            l if l == n_normal => settings.damping.clone(),
-            l => {
-                return Err(format!(
-                    "`modal_damping` has {l} ratios: give one, or one per normal mode ({n_normal})"
-                )
-                .into())
-            }
-        };
-        if let Some(z) = zeta.iter().find(|z| !(z.is_finite() && **z >= 0.0)) {
-            return Err(format!("a modal damping ratio must be finite and ≥ 0, found {z}").into());
-        }
-        let damping = zeta.iter().any(|z| *z > 0.0).then(|| {
-            let mut d = DMatrix::zeros(k, k);
-            for (i, (z, w)) in zeta.iter().zip(&basis.frequencies).enumerate() {
-                d[(i, i)] = 2.0 * z * w * basis.modal_mass[(i, i)];
-            }
-            d
-        });
-        let projected = self.invariants.project(&basis.phi);
-        let description = format!(
-            "{} reduced to {k} modes ({}: {n_normal} normal{}), stiffening {stiffening}",
-            self.description(),
-            reduction_name(&basis),
-            if k > n_normal {
-                format!(", {} more", k - n_normal)
-            } else {
-                String::new()
-            }
-        );
-        let data = ModalData {
-            invariants: to_runtime(&projected),
-            phi: basis.phi.clone(),
-            // The stiffening energy through the full body's kernels at Φ η.
-            stiffening: stiffening.is_on(),
-            damping,
-            labels: basis.labels.clone(),
-            description,
-        };
+        let base = self.reduce(Some(settings.modes), &settings.boundary, "`modes`")?;
+        let model = modal::ModalModel::new(
+            &self.spec,
+            &self.params,
+            &self.invariants,
+            base,
+            settings,
+            stiffening,
+        )?;
+        let data = modal_data(&model, self.description());
         Ok(ModalBody::new(full, data)?)
+    }
+}
+
+/// The runtime's [`ModalData`] of `model`, `body` naming the full body.
+pub fn modal_data(model: &modal::ModalModel, body: String) -> ModalData {
+    let (k, n_normal) = (model.len(), model.normal);
+    let description = format!(
+        "{body} reduced to {k} modes ({}: {n_normal} normal{}), stiffening {}",
+        model.basis.reduction_name(),
+        if k > n_normal {
+            format!(", {} more", k - n_normal)
+        } else {
+            String::new()
+        },
+        model.stiffening
+    );
+    ModalData {
+        invariants: to_runtime(&model.projected),
+        phi: model.basis.phi.clone(),
+        // The stiffening energy through the full body's kernels at Φ η.
+        stiffening: model.stiffening.is_on(),
+        damping: model.damping.clone(),
+        labels: model.basis.labels.clone(),
+        description,
     }
 }
 

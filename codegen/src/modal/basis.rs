@@ -127,6 +127,25 @@ impl ModalBasis {
         self.phi.ncols() == 0
     }
 
+    /// What the basis is: `modal truncation` or `Craig-Bampton`, `+ static
+    /// modes` when [`augment`] added some.
+    pub fn reduction_name(&self) -> &'static str {
+        let cb = self
+            .kinds
+            .iter()
+            .any(|k| matches!(k, ModeKind::Constraint { .. }));
+        let st = self
+            .kinds
+            .iter()
+            .any(|k| matches!(k, ModeKind::Static { .. }));
+        match (cb, st) {
+            (true, false) => "Craig-Bampton",
+            (true, true) => "Craig-Bampton + static modes",
+            (false, false) => "modal truncation",
+            (false, true) => "modal truncation + static modes",
+        }
+    }
+
     fn assemble(
         m: &DMatrix<f64>,
         k: &DMatrix<f64>,

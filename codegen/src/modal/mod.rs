@@ -27,6 +27,7 @@
 mod basis;
 mod energy;
 mod invariants;
+mod model;
 
 pub use basis::{
     augment, craig_bampton, modal_truncation, reduce, rigid_body_modes, static_loads, ModalBasis,
@@ -34,6 +35,7 @@ pub use basis::{
 };
 pub use energy::{project_energy, substitute_params, MAX_ENERGY_DEGREE};
 pub use invariants::{eval_poly, Invariants};
+pub use model::ModalModel;
 
 /// What can go wrong in a modal reduction.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]

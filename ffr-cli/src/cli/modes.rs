@@ -7,7 +7,7 @@ use crate::output;
 use ffr::codegen::export::{mbdyn_fem, sid, ExportBody};
 use ffr::codegen::modal::{ModalBasis, ModeKind};
 use ffr::invariants::check_invariants;
-use ffr::modal::{finite, reduction_name, to_runtime, ReducibleBody};
+use ffr::modal::{finite, to_runtime, ReducibleBody};
 use ffr::runtime::spec::{Formalism, Reference};
 use serde_json::{json, Value};
 use std::error::Error;
@@ -47,7 +47,7 @@ pub fn modes_json(body: &ReducibleBody, basis: &ModalBasis) -> Value {
     let projected = body.invariants.project(&basis.phi);
     json!({
         "body": body.description(),
-        "reduction": reduction_name(basis),
+        "reduction": basis.reduction_name(),
         "omega": basis.frequencies,
         "hz": basis.frequencies.iter().map(|w| w / std::f64::consts::TAU).collect::<Vec<_>>(),
         "labels": basis.labels,
@@ -211,7 +211,7 @@ pub fn export(
         "wrote {} ({name}, {} modes, {})",
         out.display(),
         basis.len(),
-        reduction_name(&basis)
+        basis.reduction_name()
     )?;
     Ok(())
 }
