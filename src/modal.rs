@@ -390,17 +390,7 @@ impl ReducibleBody {
 
 /// The runtime's [`ModalData`] of `model`, `body` naming the full body.
 pub fn modal_data(model: &modal::ModalModel, body: String) -> ModalData {
-    let (k, n_normal) = (model.len(), model.normal);
-    let description = format!(
-        "{body} reduced to {k} modes ({}: {n_normal} normal{}), stiffening {}",
-        model.basis.reduction_name(),
-        if k > n_normal {
-            format!(", {} more", k - n_normal)
-        } else {
-            String::new()
-        },
-        model.stiffening
-    );
+    let description = model.describe(&body);
     ModalData {
         invariants: to_runtime(&model.projected),
         phi: model.basis.phi.clone(),

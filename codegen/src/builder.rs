@@ -142,7 +142,7 @@ impl KernelConfig {
 }
 
 /// A body with a fixed mesh: kernels plus element count and reference.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct BodyConfig {
     /// The kernels' options (the name is the body's).
     pub kernels: KernelConfig,
@@ -154,6 +154,10 @@ pub struct BodyConfig {
     /// [`BodyConfig::sections`]), or `None`: the uniform section of the
     /// struct's parameters.
     pub sections: Option<String>,
+    /// Also a modal body type ([`BodyConfig::modes`]): the parameters and
+    /// the reduction.
+    #[cfg(feature = "modal")]
+    pub modal: Option<(ffr_spec::Params, ffr_spec::scene::ModalSettings)>,
 }
 
 impl BodyConfig {
@@ -168,7 +172,21 @@ impl BodyConfig {
             elements,
             reference,
             sections: None,
+            #[cfg(feature = "modal")]
+            modal: None,
         }
+    }
+    /// Also generate `<Type>Modal`, the body at parameters `p` reduced as
+    /// `settings` say (modal truncation to `settings.modes` normal modes, or
+    /// Craig–Bampton on `settings.boundary`; static modes and modal damping
+    /// as in a scene file): the basis and the projected invariants are
+    /// computed here, at build time, and baked in as constants; its `body()`
+    /// is the runtime's modal body over this body at `p` (docs/modal.md,
+    /// "Generated modal bodies"). Uniform bodies only (no section table).
+    #[cfg(feature = "modal")]
+    pub fn modes(mut self, p: ffr_spec::Params, settings: ffr_spec::scene::ModalSettings) -> Self {
+        self.modal = Some((p, settings));
+        self
     }
     /// Sections that vary along the span, from the CSV file `path`
     /// (relative to the crate root; the columns of a scene's section table,
@@ -464,6 +482,31 @@ impl Builder {
                         runtime_path: self.runtime_path.clone(),
                         sections,
                     };
+                    #[cfg(feature = "modal")]
+                    if let Some((p, settings)) = &b.modal {
+                        let bad = |e: String| Error::Body(format!("body `{name}`: {e}"));
+                        if b.sections.is_some() {
+                            return Err(bad("a modal body of a section table cannot be generated yet (reduce it in a scene file)".into()));
+                        }
+                        crate::limits::check_params(p, &[]).map_err(|e| bad(e.to_string()))?;
+                        let modal = crate::modal::ModalModel::of_body(
+                            &spec,
+                            p,
+                            settings,
+                            b.kernels.options.stiffening,
+                        )
+                        .map_err(|e| bad(e.to_string()))?;
+                        files.push(GeneratedFile {
+                            name: name.to_string(),
+                            type_name,
+                            file_name: format!("{name}.rs"),
+                            contents: crate::emit::emit_modal_body_file(
+                                &set, &spec, &opts, &modal, p,
+                            )?,
+                            inputs: entry.inputs(&base),
+                        });
+                        continue;
+                    }
                     emit_body_file(&set, &spec, &opts)
                 }
                 Entry::Kernels(k) => {

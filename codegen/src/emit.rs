@@ -756,12 +756,18 @@ pub fn emit_kernels_file(set: &KernelSet, kernels_type: &str, runtime_path: &str
 
 /// A complete, formatted file for one body with a fixed mesh.
 pub fn emit_body_file(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions) -> String {
+    body_file(set, spec, opts, &[])
+}
+
+/// [`emit_body_file`] with `more` header lines after the coordinates.
+fn body_file(set: &KernelSet, spec: &BodySpec, opts: &EmitOptions, more: &[String]) -> String {
     let dofs: Vec<String> = spec.dofs().iter().map(|d| d.to_string()).collect();
     let mut extra = vec!["Elastic coordinates, in this order:".to_string()];
     extra.extend(
         dofs.chunks(12)
             .map(|chunk| format!("  {}", chunk.join(" "))),
     );
+    extra.extend(more.iter().cloned());
     let h = header(
         &format!(
             "Body `{}`: {} element{}, {} reference, {} elastic coordinates.",
@@ -853,4 +859,168 @@ pub fn emit_scene_file(
     )
     .unwrap();
     Ok(header(&what, &titled, &[]) + &kernels + &pretty(&items, 0))
+}
+
+/// The modal body type `{type_name}Modal` of a body file (after
+/// [`emit_body_file`]'s `{type_name}` and its kernels): `model`'s numbers as
+/// [`ModalConsts`](../../ffr_runtime/modal/struct.ModalConsts.html)
+/// (each the shortest literal that reads back to the same bits), the
+/// parameters `p` they were computed at, and `body()`, the runtime's modal
+/// body over the full body `{type_name}` at `p` (its point shapes place
+/// markers; with stiffening its elastic kernels give the force at `Φ η`).
+/// Unformatted; an error if a number is not finite.
+#[cfg(feature = "modal")]
+pub fn modal_items(
+    model: &crate::modal::ModalModel,
+    p: &ffr_spec::Params,
+    description: &str,
+    type_name: &str,
+    runtime_path: &str,
+) -> Result<String, crate::Error> {
+    use nalgebra::DMatrix;
+    let (rt, ty) = (runtime_path, type_name);
+    let inv = &model.projected;
+    let k = model.len();
+    let nf = model.basis.phi.nrows();
+    let mut bad: Option<String> = None;
+    let mut num = |name: &str, x: f64| {
+        if !x.is_finite() && bad.is_none() {
+            bad = Some(format!("modal body: `{name}` is {x}"));
+        }
+        lit(x)
+    };
+    let mut rows = |name: &str, m: &DMatrix<f64>| {
+        let v: Vec<String> = (0..m.nrows())
+            .flat_map(|i| (0..m.ncols()).map(move |j| (i, j)))
+            .map(|(i, j)| num(name, m[(i, j)]))
+            .collect();
+        format!("&[{}]", v.join(", "))
+    };
+    let s_bar = rows("s_bar", &inv.s_bar);
+    let pair = |f: &mut dyn FnMut(usize, usize) -> String| {
+        let r: Vec<String> = (0..3)
+            .map(|a| {
+                let c: Vec<String> = (0..3).map(|b| f(a, b)).collect();
+                format!("[{}]", c.join(", "))
+            })
+            .collect();
+        format!("[{}]", r.join(", "))
+    };
+    let s_kl = pair(&mut |a, b| rows("s_kl", &inv.s_kl[a][b]));
+    let i_kl = pair(&mut |a, b| {
+        let v = &inv.i_kl[a][b];
+        rows(
+            "i_kl",
+            &DMatrix::from_column_slice(1, v.len(), v.as_slice()),
+        )
+    });
+    let m_ff = rows("m_ff", &inv.m_ff);
+    let k_ff = rows("k_ff", &inv.k_ff);
+    let phi = rows("phi", &model.basis.phi);
+    let damping = match &model.damping {
+        None => "::core::option::Option::None".to_string(),
+        Some(d) => format!("::core::option::Option::Some({})", rows("damping", d)),
+    };
+    let mass = num("mass", inv.mass);
+    let s_t0: Vec<String> = (0..3).map(|a| num("s_t0", inv.s_t0[a])).collect();
+    let theta = {
+        let r: Vec<String> = (0..3)
+            .map(|a| {
+                let c: Vec<String> = (0..3).map(|b| num("theta", inv.theta[(a, b)])).collect();
+                format!("[{}]", c.join(", "))
+            })
+            .collect();
+        format!("[{}]", r.join(", "))
+    };
+    let params: Vec<String> = p.to_array().iter().map(|&x| num("params", x)).collect();
+    if let Some(msg) = bad {
+        return Err(crate::Error::Body(msg));
+    }
+    let labels: Vec<String> = model
+        .basis
+        .labels
+        .iter()
+        .map(|l| format!("{l:?}"))
+        .collect();
+    let freqs: Vec<String> = model
+        .basis
+        .frequencies
+        .iter()
+        .map(|w| format!("{w:.6e}"))
+        .collect();
+    let esc = |t: &str| t.replace('\\', "\\\\").replace('"', "\\\"");
+    Ok(format!(
+        "#[doc = \" The body `{ty}` at fixed parameters, reduced: {}.\"]
+#[doc = \"\"]
+#[doc = \" Normal-mode frequencies (rad/s): {}. The numbers are baked in; `body()` is\"]
+#[doc = \" the runtime's modal body over the full body `{ty}` at `params()`.\"]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct {ty}Modal;
+impl {ty}Modal {{
+#[doc = \" Number of modes.\"]
+pub const MODES: usize = {k};
+#[doc = \" The parameters the modes were computed at.\"]
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
+pub fn params() -> {rt}::spec::Params {{ {rt}::spec::Params::from_array([{}]) }}
+#[doc = \" The projected invariants, `Φ` and the damping.\"]
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
+pub const CONSTS: {rt}::ModalConsts = {rt}::ModalConsts {{ dim: {}, modes: {k}, nf: {nf}, mass: {mass}, s_t0: [{}], s_bar: {s_bar}, s_kl: {s_kl}, i_kl: {i_kl}, theta: {theta}, m_ff: {m_ff}, k_ff: {k_ff}, phi: {phi}, stiffening: {}, damping: {damping}, labels: &[{}], description: \"{}\" }};
+#[doc = \" The modal body: `CONSTS` over the full body `{ty}` at `params()`.\"]
+pub fn body() -> {rt}::Result<{rt}::ModalBody> {{
+let full = {rt}::KernelBody::compiled(&{ty}::from(Self::params()))?;
+{rt}::ModalBody::new(::std::boxed::Box::new(full), Self::CONSTS.data()?)
+}}
+}}
+",
+        esc(description),
+        freqs.join(", "),
+        params.join(", "),
+        inv.dim,
+        s_t0.join(", "),
+        model.stiffening.is_on(),
+        labels.join(", "),
+        esc(description),
+    ))
+}
+
+/// [`emit_body_file`] followed by the formatted [`modal_items`].
+#[cfg(feature = "modal")]
+pub fn emit_modal_body_file(
+    set: &KernelSet,
+    spec: &BodySpec,
+    opts: &EmitOptions,
+    model: &crate::modal::ModalModel,
+    p: &ffr_spec::Params,
+) -> Result<String, crate::Error> {
+    let description = model.describe(&format!(
+        "{} ({}), {} elements, {} reference, {} formalism",
+        spec.shape.name, spec.shape.origin, spec.elements, spec.reference, spec.formalism
+    ));
+    let items = modal_items(model, p, &description, &opts.type_name, &opts.runtime_path)?;
+    let more = [
+        format!(
+            "Modal body `{}Modal`: {} modes ({}), {} constants; its equations are the",
+            opts.type_name,
+            model.len(),
+            model.basis.labels.join(" "),
+            modal_constants(model)
+        ),
+        "runtime's from these constants (ffr-runtime/src/inertia.rs, O(k²) per evaluation)."
+            .to_string(),
+    ];
+    Ok(body_file(set, spec, opts, &more) + "\n" + &pretty(&items, 0))
+}
+
+/// How many numbers [`modal_items`] bakes in.
+#[cfg(feature = "modal")]
+fn modal_constants(model: &crate::modal::ModalModel) -> usize {
+    let (k, nf) = (model.len(), model.basis.phi.nrows());
+    1 + 3
+        + 3 * k
+        + 9 * k * k
+        + 9 * k
+        + 9
+        + 2 * k * k
+        + nf * k
+        + model.damping.as_ref().map_or(0, |_| k * k)
 }

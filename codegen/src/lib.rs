@@ -43,6 +43,10 @@ pub use builder::{BodyConfig, Builder, KernelConfig};
 pub use emit::{emit_body_file, emit_kernels_file, EmitOptions};
 pub use eom::KernelModel;
 pub use error::{Error, Location};
+/// How [`BodyConfig::modes`] reduces a body (as a scene file's `modes`,
+/// `boundary`, `static_modes`, `modal_damping`).
+#[cfg(feature = "modal")]
+pub use ffr_spec::scene::ModalSettings;
 pub use ffr_spec::{
     FrameModel, KernelOptions, Params, SceneDim, SectionModel, SectionProp, Stiffening,
 };

@@ -4,7 +4,9 @@
 
 /// Every body of the crate, generated into `OUT_DIR/<name>.rs`.
 fn ffr_bodies() -> ffr_codegen::Builder {
-    use ffr_codegen::{BodyConfig, Builder, Formalism, Reference, Stiffening};
+    use ffr_codegen::{
+        BodyConfig, Builder, Formalism, ModalSettings, Params, Reference, Stiffening,
+    };
     Builder::new()
         // The same beam as `attr::Arm`.
         .body(BodyConfig::new("arm", "beam3", 8, Reference::Clamped))
@@ -16,6 +18,27 @@ fn ffr_bodies() -> ffr_codegen::Builder {
             BodyConfig::new("spinning_blade", "beam2", 3, Reference::Pinned)
                 .formalism(Formalism::Lumped)
                 .stiffening(Stiffening::FourthOrder),
+        )
+        // A body reduced to modes at build time: the KRB spin-up beam on 4
+        // elements, its 2 lowest modes plus the static modes, fourth-order
+        // stiffening. `SpinUpBeamModal::body()` is the modal body with the
+        // basis and the projected invariants baked in.
+        .body(
+            BodyConfig::new("spin_up_beam", "beam2", 4, Reference::Clamped)
+                .stiffening(Stiffening::FourthOrder)
+                .modes(
+                    Params {
+                        length: 8.0,
+                        rho: 2766.67,
+                        area: 7.2968e-5,
+                        iy: 0.0,
+                        iz: 8.2189e-9,
+                        e: 6.8952e10,
+                        g: 0.0,
+                        j: 0.0,
+                    },
+                    ModalSettings::truncation(2),
+                ),
         )
         // A whole scene: the specialized kernels of its flexible bodies and
         // `TwoLinksScene::load()`, which simulates like `ffr run` on the file.

@@ -157,6 +157,91 @@ fn emit_prints_the_generated_rust() {
     assert_eq!(out, out2, "emitted code is deterministic");
 }
 
+/// `ffr emit --elements N --modes K` adds `<TYPE>Modal`: the basis and the
+/// projected invariants of the body at the parameter flags, as constants
+/// (`Φ` that of `ffr modes --json` with the same flags); deterministic. Bad counts and parameters without
+/// `--modes` are refused.
+#[test]
+fn emit_modes_prints_a_modal_body() {
+    let args = [
+        "--shape",
+        "beam2",
+        "--elements",
+        "3",
+        "--length",
+        "2",
+        "--rho",
+        "2700",
+    ];
+    let mut emit: Vec<&str> = vec!["emit", "--type-name", "Link", "--modes", "2"];
+    emit.extend(args);
+    let (ok, out, err) = ffr(&emit);
+    assert!(ok, "{err}");
+    assert!(out.contains("pub struct LinkModal;"));
+    assert!(out.contains("pub const CONSTS: ::ffr::runtime::ModalConsts"));
+    assert!(
+        out.contains("labels: &[\"mode_1\", \"mode_2\"]"),
+        "no static modes unless asked"
+    );
+    let (_, again, _) = ffr(&emit);
+    assert_eq!(out, again, "deterministic");
+    // Φ as `ffr modes --json` gives it, to the bit.
+    let mut modes: Vec<&str> = vec!["modes", "--count", "2", "--json"];
+    modes.extend(args);
+    let (ok, js, err) = ffr(&modes);
+    assert!(ok, "{err}");
+    let js: Value = serde_json::from_str(&js).unwrap();
+    let phi: Vec<f64> = js["phi"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+        .collect();
+    let at = out.find("phi: &[").unwrap() + "phi: &[".len();
+    let end = at + out[at..].find(']').unwrap();
+    let emitted: Vec<f64> = out[at..end]
+        .split(',')
+        .map(str::trim)
+        .filter(|t| !t.is_empty())
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(emitted.len(), 9 * 2);
+    // To the last bit but one: serde_json's default float parser is not
+    // correctly rounded (the emitted literals are; the arm-crate's
+    // `generated_modal_body_is_the_runtime_one` compares the bits).
+    for (a, b) in emitted.iter().zip(&phi) {
+        assert!((a - b).abs() <= 2.0 * f64::EPSILON * b.abs(), "{a} vs {b}");
+    }
+    let mut statics = emit.clone();
+    statics.push("--static-modes");
+    let (ok, out, err) = ffr(&statics);
+    assert!(ok, "{err}");
+    assert!(out.contains("\"static_a_y\""));
+    for (bad, msg) in [
+        (
+            vec!["emit", "--elements", "3", "--modes", "0"],
+            "--modes must be between 1 and 18",
+        ),
+        (
+            vec!["emit", "--elements", "3", "--modes", "19"],
+            "--modes must be between 1 and 18",
+        ),
+        (
+            vec!["emit", "--elements", "3", "--rho", "2700"],
+            "give them with --modes",
+        ),
+        (vec!["emit", "--modes", "2"], "--elements"),
+        (
+            vec!["emit", "--elements", "3", "--modes", "2", "--e", "-1"],
+            "parameter `e` must be positive",
+        ),
+    ] {
+        let (ok, _, err) = ffr(&bad);
+        assert!(!ok, "{bad:?} succeeded");
+        assert!(err.contains(msg), "{bad:?}: {err}");
+    }
+}
+
 #[test]
 fn bad_arguments_fail_with_a_clear_message() {
     let cases: [(&[&str], &str); 7] = [

@@ -53,7 +53,7 @@ pub use kernel::{
 };
 pub use kernel_body::KernelBody;
 pub use marker::{BodyId, Marker};
-pub use modal::{ModalBody, ModalData};
+pub use modal::{ModalBody, ModalConsts, ModalData};
 pub use monitor::Monitor;
 pub use nalgebra;
 pub use rigid::RigidBody;

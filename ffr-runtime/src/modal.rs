@@ -43,6 +43,105 @@ pub struct ModalData {
     pub description: String,
 }
 
+/// A modal body's numbers as constants, in generated code (`ffr emit
+/// --modes`, `ffr_codegen::BodyConfig::modes`): matrices as row-major
+/// slices, written to read back to the same bits. [`ModalConsts::data`]
+/// makes the [`ModalData`] of [`ModalBody::new`].
+#[derive(Clone, Copy, Debug)]
+pub struct ModalConsts {
+    /// 2 (planar) or 3 (spatial).
+    pub dim: usize,
+    /// Number of modes `k`.
+    pub modes: usize,
+    /// The full body's elastic coordinates `n_f`.
+    pub nf: usize,
+    /// `m`.
+    pub mass: f64,
+    /// `S_t0`.
+    pub s_t0: [f64; 3],
+    /// `S̄ Φ` (3 × k).
+    pub s_bar: &'static [f64],
+    /// `Φᵀ S̄_kl Φ` (k × k each).
+    pub s_kl: [[&'static [f64]; 3]; 3],
+    /// `Ī_kl Φ` (k each).
+    pub i_kl: [[&'static [f64]; 3]; 3],
+    /// `Θ_kl`.
+    pub theta: [[f64; 3]; 3],
+    /// `Φᵀ m_ff Φ` (k × k).
+    pub m_ff: &'static [f64],
+    /// `Φᵀ K_ff Φ` (k × k).
+    pub k_ff: &'static [f64],
+    /// `Φ` (n_f × k).
+    pub phi: &'static [f64],
+    /// [`ModalData::stiffening`].
+    pub stiffening: bool,
+    /// The damping matrix (k × k), if any.
+    pub damping: Option<&'static [f64]>,
+    /// One label per mode.
+    pub labels: &'static [&'static str],
+    /// [`ModalData::description`].
+    pub description: &'static str,
+}
+
+impl ModalConsts {
+    /// The data of [`ModalBody::new`] (which checks the numbers); an error
+    /// if a slice does not have its size.
+    pub fn data(&self) -> Result<ModalData> {
+        let (k, nf) = (self.modes, self.nf);
+        let sized = |name: &str, v: &[f64], n: usize| {
+            if v.len() == n {
+                Ok(())
+            } else {
+                Err(Error::InvalidInput(format!(
+                    "modal constants: `{name}` has {} numbers, expected {n}",
+                    v.len()
+                )))
+            }
+        };
+        sized("s_bar", self.s_bar, 3 * k)?;
+        sized("m_ff", self.m_ff, k * k)?;
+        sized("k_ff", self.k_ff, k * k)?;
+        sized("phi", self.phi, nf * k)?;
+        for a in 0..3 {
+            for b in 0..3 {
+                sized("s_kl", self.s_kl[a][b], k * k)?;
+                sized("i_kl", self.i_kl[a][b], k)?;
+            }
+        }
+        if let Some(d) = self.damping {
+            sized("damping", d, k * k)?;
+        }
+        if self.labels.len() != k {
+            return Err(Error::InvalidInput(format!(
+                "modal constants: {} labels for {k} modes",
+                self.labels.len()
+            )));
+        }
+        let square = |v: &[f64]| DMatrix::from_row_slice(k, k, v);
+        let mut inv = Invariants::zeros(self.dim, k);
+        inv.mass = self.mass;
+        inv.s_t0 = nalgebra::Vector3::from(self.s_t0);
+        inv.s_bar = nalgebra::Matrix3xX::from_row_slice(self.s_bar);
+        for a in 0..3 {
+            for b in 0..3 {
+                inv.s_kl[a][b] = square(self.s_kl[a][b]);
+                inv.i_kl[a][b] = nalgebra::DVector::from_column_slice(self.i_kl[a][b]);
+            }
+        }
+        inv.theta = nalgebra::Matrix3::from_fn(|a, b| self.theta[a][b]);
+        inv.m_ff = square(self.m_ff);
+        inv.k_ff = square(self.k_ff);
+        Ok(ModalData {
+            invariants: inv,
+            phi: DMatrix::from_row_slice(nf, k, self.phi),
+            stiffening: self.stiffening,
+            damping: self.damping.map(square),
+            labels: self.labels.iter().map(|l| l.to_string()).collect(),
+            description: self.description.to_string(),
+        })
+    }
+}
+
 /// A flexible body reduced to modes (see the module documentation).
 pub struct ModalBody {
     inner: Box<dyn Body>,

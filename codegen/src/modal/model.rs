@@ -124,4 +124,20 @@ impl ModalModel {
     pub fn is_empty(&self) -> bool {
         self.basis.is_empty()
     }
+
+    /// One line saying what the reduced body is, `body` naming the full
+    /// body.
+    pub fn describe(&self, body: &str) -> String {
+        let (k, n) = (self.len(), self.normal);
+        format!(
+            "{body} reduced to {k} modes ({}: {n} normal{}), stiffening {}",
+            self.basis.reduction_name(),
+            if k > n {
+                format!(", {} more", k - n)
+            } else {
+                String::new()
+            },
+            self.stiffening
+        )
+    }
 }

@@ -72,4 +72,5 @@ pub mod built {
     include!(concat!(env!("OUT_DIR"), "/arm.rs"));
     include!(concat!(env!("OUT_DIR"), "/bar.rs"));
     include!(concat!(env!("OUT_DIR"), "/spinning_blade.rs"));
+    include!(concat!(env!("OUT_DIR"), "/spin_up_beam.rs"));
 }

@@ -119,3 +119,28 @@ fn options_are_the_same_both_ways() {
         "stiffening energy missing: {energy} vs linear {linear}"
     );
 }
+
+/// The modal body generated at build time (`BodyConfig::modes`: the basis
+/// and the projected invariants baked in as constants) is the runtime's
+/// modal body of the same beam and reduction (`ffr::modal::modal_body`,
+/// what a scene file with `modes = 2` builds): the same bits for
+/// everything it computes, at rest and deformed, and the same modes.
+#[test]
+fn generated_modal_body_is_the_runtime_one() {
+    use arm_crate::built::{SpinUpBeam, SpinUpBeamModal};
+    use ffr::kernels::BeamSpec;
+    use ffr::runtime::spec::{Reference, Stiffening};
+    let generated = SpinUpBeamModal::body().unwrap();
+    let mut beam = BeamSpec::new("beam2", 4, SpinUpBeamModal::params());
+    beam.reference = Reference::Clamped;
+    beam.options.stiffening = Stiffening::FourthOrder;
+    let settings = ffr::modal::ModalSettings::truncation(2);
+    let runtime = ffr::modal::modal_body(&beam, &settings).unwrap();
+    assert_eq!(generated.layout().labels, runtime.layout().labels);
+    assert_eq!(generated.layout().nf, SpinUpBeamModal::MODES);
+    assert_eq!(
+        generated.data().phi.nrows(),
+        <SpinUpBeam as CompiledBody>::NF
+    );
+    assert_eq!(sample_bits(&generated, 1e-3), sample_bits(&runtime, 1e-3));
+}

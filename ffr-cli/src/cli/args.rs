@@ -117,6 +117,14 @@ pub struct ParamArgs {
 }
 
 impl ParamArgs {
+    /// The flags' defaults (clap's, so that they are written once).
+    pub fn parse_defaults() -> Self {
+        use clap::{Args, FromArgMatches};
+        let cmd = Self::augment_args(clap::Command::new("defaults"));
+        let matches = cmd.get_matches_from(["defaults"]);
+        Self::from_arg_matches(&matches).expect("every parameter flag has a default")
+    }
+
     /// As parameter values.
     pub fn values(&self) -> Params {
         Params {

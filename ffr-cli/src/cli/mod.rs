@@ -2,6 +2,7 @@
 //! ([`run`]); one file per command beside this one.
 
 mod args;
+mod emit;
 mod invariants;
 mod linearize;
 mod modes;
@@ -149,6 +150,22 @@ pub enum Command {
         /// Name of the generated type.
         #[arg(long, default_value = "Body")]
         type_name: String,
+        /// With --elements: also emit `<TYPE>Modal`, the body reduced to this
+        /// many normal modes at the parameter flags' values (the basis and
+        /// projected invariants baked in; docs/modal.md).
+        #[arg(long, requires = "elements", conflicts_with = "scene")]
+        modes: Option<usize>,
+        /// With --modes: add the static modes (inertia loads and, with
+        /// stiffening, the modal derivatives).
+        #[arg(long, requires = "modes")]
+        static_modes: bool,
+        /// With --modes: Craig–Bampton with these boundary nodes
+        /// (comma-separated) instead of modal truncation.
+        #[arg(long, value_delimiter = ',', requires = "modes")]
+        boundary: Vec<usize>,
+        /// The parameters of a modal body (--modes only).
+        #[command(flatten)]
+        params: ParamArgs,
     },
 }
 
@@ -205,9 +222,27 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             reference,
             scene,
             type_name,
+            modes,
+            static_modes,
+            boundary,
+            params,
         }) => {
             check_type_name(&type_name, "--type-name")?;
+            if modes.is_none() && params.values() != ParamArgs::parse_defaults().values() {
+                return Err("the parameter flags of `ffr emit` set a modal body's parameters: give them with --modes".into());
+            }
             let text = match (&scene, elements) {
+                (None, Some(n)) if modes.is_some() => {
+                    let settings = ffr::modal::ModalSettings {
+                        modes: modes.unwrap_or_default(),
+                        boundary,
+                        static_modes,
+                        damping: Vec::new(),
+                    };
+                    emit::modal_body(
+                        &kernel, n as usize, reference, &params, &settings, &type_name,
+                    )?
+                }
                 (Some(path), _) => ffr::scene::emit::scene_file(path, &type_name)?,
                 (None, Some(n)) => {
                     let cfg = kernel.config(&type_name);
