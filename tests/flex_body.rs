@@ -192,3 +192,87 @@ fn sections_from_a_table_are_baked_into_the_type() {
         .sum();
     assert!((compiled.invariants().mass - m).abs() < 1e-12 * m);
 }
+
+/// The KRB spin-up beam on 4 elements reduced at build time to its 2 lowest
+/// modes plus the static modes (the default), fourth-order stiffening.
+#[ffr::flex_body(
+    shape = "beam2",
+    elements = 4,
+    stiffening = true,
+    modes = 2,
+    params(
+        length = 8.0,
+        rho = 2766.67,
+        area = 7.2968e-5,
+        iz = 8.2189e-9,
+        e = 6.8952e10
+    )
+)]
+pub struct SpinBeam {
+    pub length: f64,
+    pub rho: f64,
+    pub area: f64,
+    pub iz: f64,
+    pub e: f64,
+}
+
+/// Craig–Bampton with the tip node as the boundary, no static modes.
+#[ffr::flex_body(
+    shape = "beam3",
+    elements = 3,
+    modes = 2,
+    reduction = "craig-bampton",
+    boundary = [3],
+    static_modes = false,
+    params(length = 2.0, rho = 2700, area = 3e-4, iy = 2e-9, iz = 4e-9, e = 7e10, g = 2.6e10, j = 5e-9)
+)]
+pub struct TipBoundary {
+    pub length: f64,
+    pub rho: f64,
+    pub area: f64,
+    pub iy: f64,
+    pub iz: f64,
+    pub e: f64,
+    pub g: f64,
+    pub j: f64,
+}
+
+/// `#[flex_body(modes = …)]` bakes the modal body in at build time: the
+/// same bits as the runtime's modal body of the same beam and reduction
+/// (`ffr::modal::modal_body`, what a scene file with `modes` builds), for
+/// modal truncation with static modes and for Craig–Bampton.
+#[test]
+fn modal_bodies_from_the_attribute_are_the_runtime_ones() {
+    use ffr::modal::{modal_body, ModalSettings};
+    let mut beam = BeamSpec::new("beam2", 4, SpinBeamModal::params());
+    beam.options.stiffening = Stiffening::FourthOrder;
+    let runtime = modal_body(&beam, &ModalSettings::truncation(2)).unwrap();
+    let generated = SpinBeamModal::body().unwrap();
+    assert_eq!(SpinBeamModal::MODES, 9);
+    assert_eq!(generated.layout().labels, runtime.layout().labels);
+    assert_eq!(sample_bits(&generated, 1e-3), sample_bits(&runtime, 1e-3));
+
+    let beam = BeamSpec::new("beam3", 3, TipBoundaryModal::params());
+    let settings = ModalSettings {
+        modes: 2,
+        boundary: vec![3],
+        static_modes: false,
+        damping: Vec::new(),
+    };
+    let runtime = modal_body(&beam, &settings).unwrap();
+    let generated = TipBoundaryModal::body().unwrap();
+    assert_eq!(
+        generated.layout().labels,
+        [
+            "mode_1",
+            "mode_2",
+            "constraint_ux_3",
+            "constraint_uy_3",
+            "constraint_uz_3",
+            "constraint_rx_3",
+            "constraint_ry_3",
+            "constraint_rz_3"
+        ]
+    );
+    assert_eq!(sample_bits(&generated, 1e-3), sample_bits(&runtime, 1e-3));
+}

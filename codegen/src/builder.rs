@@ -488,7 +488,8 @@ impl Builder {
                         if b.sections.is_some() {
                             return Err(bad("a modal body of a section table cannot be generated yet (reduce it in a scene file)".into()));
                         }
-                        crate::limits::check_params(p, &[]).map_err(|e| bad(e.to_string()))?;
+                        crate::limits::check_params(p, &set.params_used())
+                            .map_err(|e| bad(e.to_string()))?;
                         let modal = crate::modal::ModalModel::of_body(
                             &spec,
                             p,

@@ -967,7 +967,7 @@ pub fn params() -> {rt}::spec::Params {{ {rt}::spec::Params::from_array([{}]) }}
 pub const CONSTS: {rt}::ModalConsts = {rt}::ModalConsts {{ dim: {}, modes: {k}, nf: {nf}, mass: {mass}, s_t0: [{}], s_bar: {s_bar}, s_kl: {s_kl}, i_kl: {i_kl}, theta: {theta}, m_ff: {m_ff}, k_ff: {k_ff}, phi: {phi}, stiffening: {}, damping: {damping}, labels: &[{}], description: \"{}\" }};
 #[doc = \" The modal body: `CONSTS` over the full body `{ty}` at `params()`.\"]
 pub fn body() -> {rt}::Result<{rt}::ModalBody> {{
-let full = {rt}::KernelBody::compiled(&{ty}::from(Self::params()))?;
+let full = {rt}::KernelBody::new({ty}Kernels, Self::params(), <{ty} as {rt}::CompiledBody>::ELEMENTS, <{ty} as {rt}::CompiledBody>::REFERENCE)?;
 {rt}::ModalBody::new(::std::boxed::Box::new(full), Self::CONSTS.data()?)
 }}
 }}
@@ -983,6 +983,15 @@ let full = {rt}::KernelBody::compiled(&{ty}::from(Self::params()))?;
     ))
 }
 
+/// One line saying what the modal body of `spec` is.
+#[cfg(feature = "modal")]
+pub fn modal_description(model: &crate::modal::ModalModel, spec: &BodySpec) -> String {
+    model.describe(&format!(
+        "{} ({}), {} elements, {} reference, {} formalism",
+        spec.shape.name, spec.shape.origin, spec.elements, spec.reference, spec.formalism
+    ))
+}
+
 /// [`emit_body_file`] followed by the formatted [`modal_items`].
 #[cfg(feature = "modal")]
 pub fn emit_modal_body_file(
@@ -992,10 +1001,7 @@ pub fn emit_modal_body_file(
     model: &crate::modal::ModalModel,
     p: &ffr_spec::Params,
 ) -> Result<String, crate::Error> {
-    let description = model.describe(&format!(
-        "{} ({}), {} elements, {} reference, {} formalism",
-        spec.shape.name, spec.shape.origin, spec.elements, spec.reference, spec.formalism
-    ));
+    let description = modal_description(model, spec);
     let items = modal_items(model, p, &description, &opts.type_name, &opts.runtime_path)?;
     let more = [
         format!(

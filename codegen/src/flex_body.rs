@@ -37,6 +37,10 @@ pub struct FlexBodyInput<'a> {
     pub type_name: &'a str,
     /// Path of the runtime crate as the generated code sees it.
     pub runtime_path: &'a str,
+    /// Also `{type_name}Modal`: the body at these parameters reduced as the
+    /// settings say ([`crate::BodyConfig::modes`]); needs the feature
+    /// `modal`.
+    pub modal: Option<(ffr_spec::Params, ffr_spec::scene::ModalSettings)>,
 }
 
 /// The generated code and what the attribute checks the struct against.
@@ -75,6 +79,10 @@ pub enum FlexBodyError {
     /// The section table cannot be read or is not valid.
     #[error("{0}")]
     Sections(Error),
+    /// The modal body cannot be made (parameters, mode counts, a section
+    /// table, the generator built without `modal`).
+    #[error("{0}")]
+    Modal(String),
 }
 
 /// Resolve, generate and emit the body the attribute describes.
@@ -103,7 +111,8 @@ pub fn expand(input: &FlexBodyInput) -> Result<FlexBody, FlexBodyError> {
         .map_err(FlexBodyError::Elements)?
         .with_formalism(input.options.formalism);
     let set = generate_checked(&model).map_err(FlexBodyError::Kernels)?;
-    let items = body_items(
+    let has_sections = sections.is_some();
+    let mut items = body_items(
         &set,
         &spec,
         &EmitOptions {
@@ -113,6 +122,16 @@ pub fn expand(input: &FlexBodyInput) -> Result<FlexBody, FlexBodyError> {
             sections,
         },
     );
+    if let Some((p, settings)) = &input.modal {
+        items.push_str(&modal_items(
+            input,
+            &spec,
+            p,
+            settings,
+            has_sections,
+            &set.params_used(),
+        )?);
+    }
     Ok(FlexBody {
         items,
         shape_name: model.shape.name.clone(),
@@ -125,4 +144,44 @@ pub fn expand(input: &FlexBodyInput) -> Result<FlexBody, FlexBodyError> {
             set.params_used()
         },
     })
+}
+
+/// The `{type_name}Modal` items of [`expand`].
+#[cfg(feature = "modal")]
+fn modal_items(
+    input: &FlexBodyInput,
+    spec: &BodySpec,
+    p: &ffr_spec::Params,
+    settings: &ffr_spec::scene::ModalSettings,
+    has_sections: bool,
+    used: &[crate::poly::Param],
+) -> Result<String, FlexBodyError> {
+    let bad = |e: String| FlexBodyError::Modal(format!("modal body: {e}"));
+    if has_sections {
+        return Err(bad(
+            "a body of a section table cannot be reduced here yet (reduce it in a scene file)"
+                .into(),
+        ));
+    }
+    crate::limits::check_params(p, used).map_err(|e| bad(e.to_string()))?;
+    let model = crate::modal::ModalModel::of_body(spec, p, settings, input.options.stiffening)
+        .map_err(|e| bad(e.to_string()))?;
+    let description = crate::emit::modal_description(&model, spec);
+    crate::emit::modal_items(&model, p, &description, input.type_name, input.runtime_path)
+        .map_err(|e| bad(e.to_string()))
+}
+
+#[cfg(not(feature = "modal"))]
+fn modal_items(
+    _: &FlexBodyInput,
+    _: &BodySpec,
+    _: &ffr_spec::Params,
+    _: &ffr_spec::scene::ModalSettings,
+    _: bool,
+    _: &[crate::poly::Param],
+) -> Result<String, FlexBodyError> {
+    Err(FlexBodyError::Modal(
+        "`modes` needs the feature `modal` of ffr (the modal reduction in the attribute's generator)"
+            .into(),
+    ))
 }

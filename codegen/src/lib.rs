@@ -43,9 +43,8 @@ pub use builder::{BodyConfig, Builder, KernelConfig};
 pub use emit::{emit_body_file, emit_kernels_file, EmitOptions};
 pub use eom::KernelModel;
 pub use error::{Error, Location};
-/// How [`BodyConfig::modes`] reduces a body (as a scene file's `modes`,
-/// `boundary`, `static_modes`, `modal_damping`).
-#[cfg(feature = "modal")]
+/// How `BodyConfig::modes` and `#[flex_body(modes = …)]` reduce a body (as
+/// a scene file's `modes`, `boundary`, `static_modes`, `modal_damping`).
 pub use ffr_spec::scene::ModalSettings;
 pub use ffr_spec::{
     FrameModel, KernelOptions, Params, SceneDim, SectionModel, SectionProp, Stiffening,

@@ -67,7 +67,7 @@ pub fn flex_body(attr: TokenStream, item: TokenStream) -> TokenStream {
     }
 }
 
-const OPTIONS: &str = "shape, elements, reference, formalism, stiffening, scene, sections";
+const OPTIONS: &str = "shape, elements, reference, formalism, stiffening, scene, sections, modes, reduction, boundary, static_modes, params";
 
 /// The attribute's options as written: the shape and mesh, and the kernel
 /// options as one value (the scene's literal kept for its error span).
@@ -79,6 +79,16 @@ struct Args {
     options: KernelOptions,
     scene: Option<LitStr>,
     sections: Option<LitStr>,
+    /// `modes = K` (its literal for spans).
+    modes: Option<(usize, Expr)>,
+    /// `reduction = "…"`: true for Craig–Bampton.
+    craig_bampton: Option<(bool, LitStr)>,
+    boundary: Option<(Vec<usize>, Expr)>,
+    static_modes: Option<bool>,
+    /// `params(name = value, …)` and the option's path for spans.
+    params: Option<(ffr_codegen::Params, syn::Path)>,
+    /// The modal options written, for "needs `modes`" errors.
+    modal_given: Vec<syn::Path>,
 }
 
 fn combine(errors: &mut Option<Error>, e: Error) {
@@ -101,7 +111,18 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
             .unwrap_or_else(|| path.to_token_stream().to_string().replace(' ', ""));
         let known = matches!(
             name.as_str(),
-            "shape" | "elements" | "reference" | "formalism" | "stiffening" | "scene" | "sections"
+            "shape"
+                | "elements"
+                | "reference"
+                | "formalism"
+                | "stiffening"
+                | "scene"
+                | "sections"
+                | "modes"
+                | "reduction"
+                | "boundary"
+                | "static_modes"
+                | "params"
         );
         if !known {
             combine(
@@ -112,6 +133,82 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
             if meta.input.peek(syn::Token![=]) {
                 meta.value()?.parse::<Expr>()?;
             }
+            return Ok(());
+        }
+        if given.contains(&name) {
+            combine(
+                &mut errors,
+                Error::new_spanned(path, format!("option `{name}` is given twice")),
+            );
+            if meta.input.peek(syn::Token![=]) {
+                meta.value()?.parse::<Expr>()?;
+            } else if meta.input.peek(syn::token::Paren) {
+                meta.parse_nested_meta(|m| {
+                    m.value()?.parse::<Expr>()?;
+                    Ok(())
+                })?;
+            }
+            return Ok(());
+        }
+        if name == "params" {
+            given.push(name.clone());
+            args.modal_given.push(path.clone());
+            let mut p = ffr_codegen::Params::from_array([0.0; 8]);
+            let mut seen: Vec<String> = Vec::new();
+            meta.parse_nested_meta(|m| {
+                let field = m
+                    .path
+                    .get_ident()
+                    .map(|i| i.unraw().to_string())
+                    .unwrap_or_default();
+                let value: Expr = m.value()?.parse()?;
+                let Some(param) = Param::FIELDS.iter().find(|f| f.field() == field) else {
+                    combine(
+                        &mut errors,
+                        Error::new_spanned(
+                            &m.path,
+                            format!(
+                                "unknown parameter `{}`: expected {}",
+                                m.path.to_token_stream(),
+                                Param::FIELDS
+                                    .iter()
+                                    .map(|f| f.field())
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            ),
+                        ),
+                    );
+                    return Ok(());
+                };
+                if seen.contains(&field) {
+                    combine(
+                        &mut errors,
+                        Error::new_spanned(&m.path, format!("parameter `{field}` is given twice")),
+                    );
+                    return Ok(());
+                }
+                seen.push(field);
+                match number(&value) {
+                    Some(x) => {
+                        let mut a = p.to_array();
+                        a[param.field_index().expect("a field")] = x;
+                        p = ffr_codegen::Params::from_array(a);
+                    }
+                    None => combine(
+                        &mut errors,
+                        Error::new_spanned(
+                            &value,
+                            format!(
+                                "parameter `{}` expects a number (SI units), found `{}`",
+                                param.field(),
+                                value.to_token_stream()
+                            ),
+                        ),
+                    ),
+                }
+                Ok(())
+            })?;
+            args.params = Some((p, path.clone()));
             return Ok(());
         }
         let value: Expr = meta.value()?.parse()?;
@@ -128,6 +225,39 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
             "sections" => string(&value, &name, "a CSV section table's path, relative to the crate root")
                 .map(|s| args.sections = Some(s)),
             "elements" => elements(&value).map(|n| args.elements = Some((n, value.clone()))),
+            "modes" => modes(&value).map(|n| args.modes = Some((n, value.clone()))),
+            "reduction" => string(&value, &name, "\"modal-truncation\" or \"craig-bampton\"").and_then(|s| {
+                args.modal_given.push(path.clone());
+                let cb = match s.value().as_str() {
+                    "modal-truncation" => false,
+                    "craig-bampton" => true,
+                    other => {
+                        return Err(Error::new_spanned(
+                            &s,
+                            format!("unknown reduction `{other}`: expected \"modal-truncation\" or \"craig-bampton\""),
+                        ))
+                    }
+                };
+                args.craig_bampton = Some((cb, s));
+                Ok(())
+            }),
+            "boundary" => {
+                args.modal_given.push(path.clone());
+                node_list(&value).map(|b| args.boundary = Some((b, value.clone())))
+            }
+            "static_modes" => {
+                args.modal_given.push(path.clone());
+                match &value {
+                    Expr::Lit(ExprLit { lit: Lit::Bool(b), .. }) => {
+                        args.static_modes = Some(b.value);
+                        Ok(())
+                    }
+                    other => Err(Error::new_spanned(
+                        other,
+                        format!("`static_modes` expects `true` or `false`, found `{}`", other.to_token_stream()),
+                    )),
+                }
+            }
             "reference" => {
                 string(&value, &name, "\"clamped\", \"pinned\" or \"free\"").and_then(|s| {
                     let r = s.value().parse().map_err(|e| Error::new_spanned(&s, e))?;
@@ -199,10 +329,116 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
             ),
         );
     }
+    if args.modes.is_none() && !given.iter().any(|g| g == "modes") {
+        for p in &args.modal_given {
+            combine(
+                &mut errors,
+                Error::new_spanned(
+                    p,
+                    format!(
+                        "option `{}` belongs to a modal body: give `modes = K` too",
+                        p.to_token_stream()
+                    ),
+                ),
+            );
+        }
+    } else if let Some((_, expr)) = &args.modes {
+        if args.params.is_none() {
+            combine(
+                &mut errors,
+                Error::new_spanned(
+                    expr,
+                    "a modal body is reduced at build time: give its parameters, e.g. `params(length = 8.0, rho = 2766.67, area = 7.3e-5, iz = 8.2e-9, e = 6.9e10)`",
+                ),
+            );
+        }
+        let cb = args.craig_bampton.as_ref().is_some_and(|(cb, _)| *cb);
+        match (&args.boundary, cb) {
+            (None, true) => combine(
+                &mut errors,
+                Error::new_spanned(
+                    &args.craig_bampton.as_ref().expect("given").1,
+                    "`reduction = \"craig-bampton\"` needs `boundary = [nodes]`",
+                ),
+            ),
+            (Some((_, e)), false) => combine(
+                &mut errors,
+                Error::new_spanned(e, "`boundary` needs `reduction = \"craig-bampton\"`"),
+            ),
+            _ => {}
+        }
+    }
     match errors {
         Some(e) => Err(e),
         None => Ok(args),
     }
+}
+
+/// A number literal, possibly negative.
+fn number(value: &Expr) -> Option<f64> {
+    match value {
+        Expr::Lit(ExprLit {
+            lit: Lit::Float(f), ..
+        }) => f.base10_parse().ok(),
+        Expr::Lit(ExprLit {
+            lit: Lit::Int(i), ..
+        }) => i.base10_parse::<f64>().ok(),
+        Expr::Unary(syn::ExprUnary {
+            op: syn::UnOp::Neg(_),
+            expr,
+            ..
+        }) => number(expr).map(|x| -x),
+        _ => None,
+    }
+}
+
+fn modes(value: &Expr) -> Result<usize> {
+    match value {
+        Expr::Lit(ExprLit {
+            lit: Lit::Int(i), ..
+        }) => match i.base10_parse::<usize>() {
+            Ok(n) if n >= 1 => Ok(n),
+            _ => Err(Error::new_spanned(
+                value,
+                format!(
+                    "`modes` must be a positive integer, found `{}`",
+                    value.to_token_stream()
+                ),
+            )),
+        },
+        _ => Err(Error::new_spanned(
+            value,
+            format!(
+                "`modes` must be a positive integer, found `{}`",
+                value.to_token_stream()
+            ),
+        )),
+    }
+}
+
+/// `[0, 4]`: body node indices.
+fn node_list(value: &Expr) -> Result<Vec<usize>> {
+    let bad = || {
+        Error::new_spanned(
+            value,
+            format!(
+                "`boundary` expects a list of node indices, e.g. `[0]`, found `{}`",
+                value.to_token_stream()
+            ),
+        )
+    };
+    let Expr::Array(a) = value else {
+        return Err(bad());
+    };
+    a.elems
+        .iter()
+        .map(|e| match e {
+            Expr::Lit(ExprLit {
+                lit: Lit::Int(i), ..
+            }) => i.base10_parse::<usize>().map_err(|_| bad()),
+            _ => Err(bad()),
+        })
+        .collect()
 }
 
 fn shape_help() -> String {
@@ -326,6 +562,21 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
         options: args.options,
         type_name: &type_name,
         runtime_path: &EmitOptions::default().runtime_path,
+        modal: args.modes.as_ref().map(|(k, _)| {
+            (
+                args.params.as_ref().expect("checked").0,
+                ffr_codegen::ModalSettings {
+                    modes: *k,
+                    boundary: args
+                        .boundary
+                        .as_ref()
+                        .map(|b| b.0.clone())
+                        .unwrap_or_default(),
+                    static_modes: args.static_modes.unwrap_or(true),
+                    damping: Vec::new(),
+                },
+            )
+        }),
     })
     .map_err(|e| match e {
         FlexBodyError::Shape(e) => {
@@ -346,6 +597,14 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
         FlexBodyError::Elements(e) => Error::new_spanned(&elements_expr, e),
         FlexBodyError::Sections(e) => Error::new_spanned(
             args.sections.as_ref().expect("only a given table can fail"),
+            e,
+        ),
+        e @ FlexBodyError::Modal(_) => Error::new_spanned(
+            &args
+                .modes
+                .as_ref()
+                .expect("only a modal body can fail so")
+                .1,
             e,
         ),
     })?;
