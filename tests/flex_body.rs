@@ -216,15 +216,24 @@ pub struct SpinBeam {
     pub e: f64,
 }
 
-/// Craig–Bampton with the tip node as the boundary, no static modes.
+/// Craig–Bampton with the tip node as the boundary (the default), no
+/// static modes.
 #[ffr::flex_body(
     shape = "beam3",
     elements = 3,
     modes = 2,
     reduction = "craig-bampton",
-    boundary = [3],
     static_modes = false,
-    params(length = 2.0, rho = 2700, area = 3e-4, iy = 2e-9, iz = 4e-9, e = 7e10, g = 2.6e10, j = 5e-9)
+    params(
+        length = 2.0,
+        rho = 2700,
+        area = 3e-4,
+        iy = 2e-9,
+        iz = 4e-9,
+        e = 7e10,
+        g = 2.6e10,
+        j = 5e-9
+    )
 )]
 pub struct TipBoundary {
     pub length: f64,

@@ -48,6 +48,14 @@ use syn::{Error, Expr, ExprLit, Fields, Item, ItemStruct, Lit, LitStr, Result, T
 ///   (`CompiledBody::SECTIONS`) and the crate is rebuilt when it changes.
 ///   The body's length is the last station's x. Needs the feature
 ///   `sections` of `ffr` (the csv crate in the generator).
+/// - `modes = 4` with `params(length = 8.0, rho = …, …)`: also a type
+///   `<Name>Modal`, the body at these parameters reduced to modes when the
+///   crate is built (the basis and projected invariants as constants;
+///   `<Name>Modal::body()`), with the modal keys of a scene file:
+///   `reduction = "modal" | "craig-bampton"`, `boundary_nodes = [8]`
+///   (default the last node), `static_modes = true | false` (default
+///   `true`), `modal_damping = 0.02` or one ratio per normal mode. Needs the
+///   feature `modal` of `ffr` (the modal reduction in the generator).
 ///
 /// The struct needs an `f64` field for every parameter the body uses
 /// (`length`, `rho`, `area`, `iy`, `iz`, `e`, `g`, `j`; a planar body, for
@@ -67,7 +75,7 @@ pub fn flex_body(attr: TokenStream, item: TokenStream) -> TokenStream {
     }
 }
 
-const OPTIONS: &str = "shape, elements, reference, formalism, stiffening, scene, sections, modes, reduction, boundary, static_modes, params";
+const OPTIONS: &str = "shape, elements, reference, formalism, stiffening, scene, sections, modes, reduction, boundary_nodes, static_modes, modal_damping, params";
 
 /// The attribute's options as written: the shape and mesh, and the kernel
 /// options as one value (the scene's literal kept for its error span).
@@ -85,6 +93,7 @@ struct Args {
     craig_bampton: Option<(bool, LitStr)>,
     boundary: Option<(Vec<usize>, Expr)>,
     static_modes: Option<bool>,
+    modal_damping: Vec<f64>,
     /// `params(name = value, …)` and the option's path for spans.
     params: Option<(ffr_codegen::Params, syn::Path)>,
     /// The modal options written, for "needs `modes`" errors.
@@ -120,8 +129,9 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
                 | "sections"
                 | "modes"
                 | "reduction"
-                | "boundary"
+                | "boundary_nodes"
                 | "static_modes"
+                | "modal_damping"
                 | "params"
         );
         if !known {
@@ -226,24 +236,44 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
                 .map(|s| args.sections = Some(s)),
             "elements" => elements(&value).map(|n| args.elements = Some((n, value.clone()))),
             "modes" => modes(&value).map(|n| args.modes = Some((n, value.clone()))),
-            "reduction" => string(&value, &name, "\"modal-truncation\" or \"craig-bampton\"").and_then(|s| {
+            "reduction" => string(&value, &name, "\"modal\" or \"craig-bampton\"").and_then(|s| {
                 args.modal_given.push(path.clone());
                 let cb = match s.value().as_str() {
-                    "modal-truncation" => false,
+                    "modal" => false,
                     "craig-bampton" => true,
                     other => {
                         return Err(Error::new_spanned(
                             &s,
-                            format!("unknown reduction `{other}`: expected \"modal-truncation\" or \"craig-bampton\""),
+                            format!("unknown reduction `{other}`: expected \"modal\" or \"craig-bampton\""),
                         ))
                     }
                 };
                 args.craig_bampton = Some((cb, s));
                 Ok(())
             }),
-            "boundary" => {
+            "boundary_nodes" => {
                 args.modal_given.push(path.clone());
                 node_list(&value).map(|b| args.boundary = Some((b, value.clone())))
+            }
+            "modal_damping" => {
+                args.modal_given.push(path.clone());
+                let ratios = match &value {
+                    Expr::Array(a) => a.elems.iter().map(number).collect::<Option<Vec<f64>>>(),
+                    other => number(other).map(|z| vec![z]),
+                };
+                match ratios {
+                    Some(z) => {
+                        args.modal_damping = z;
+                        Ok(())
+                    }
+                    None => Err(Error::new_spanned(
+                        &value,
+                        format!(
+                            "`modal_damping` expects a ratio or a list of ratios (one per normal mode), found `{}`",
+                            value.to_token_stream()
+                        ),
+                    )),
+                }
             }
             "static_modes" => {
                 args.modal_given.push(path.clone());
@@ -353,19 +383,11 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
             );
         }
         let cb = args.craig_bampton.as_ref().is_some_and(|(cb, _)| *cb);
-        match (&args.boundary, cb) {
-            (None, true) => combine(
+        if let (Some((_, e)), false) = (&args.boundary, cb) {
+            combine(
                 &mut errors,
-                Error::new_spanned(
-                    &args.craig_bampton.as_ref().expect("given").1,
-                    "`reduction = \"craig-bampton\"` needs `boundary = [nodes]`",
-                ),
-            ),
-            (Some((_, e)), false) => combine(
-                &mut errors,
-                Error::new_spanned(e, "`boundary` needs `reduction = \"craig-bampton\"`"),
-            ),
-            _ => {}
+                Error::new_spanned(e, "`boundary_nodes` needs `reduction = \"craig-bampton\"`"),
+            );
         }
     }
     match errors {
@@ -422,7 +444,7 @@ fn node_list(value: &Expr) -> Result<Vec<usize>> {
         Error::new_spanned(
             value,
             format!(
-                "`boundary` expects a list of node indices, e.g. `[0]`, found `{}`",
+                "`boundary_nodes` expects a list of node indices, e.g. `[8]`, found `{}`",
                 value.to_token_stream()
             ),
         )
@@ -567,13 +589,14 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
                 args.params.as_ref().expect("checked").0,
                 ffr_codegen::ModalSettings {
                     modes: *k,
-                    boundary: args
-                        .boundary
-                        .as_ref()
-                        .map(|b| b.0.clone())
-                        .unwrap_or_default(),
+                    // Craig–Bampton's boundary: the last node unless given.
+                    boundary: match (&args.boundary, &args.craig_bampton) {
+                        (Some((b, _)), _) => b.clone(),
+                        (None, Some((true, _))) => vec![elements],
+                        _ => Vec::new(),
+                    },
                     static_modes: args.static_modes.unwrap_or(true),
-                    damping: Vec::new(),
+                    damping: args.modal_damping.clone(),
                 },
             )
         }),

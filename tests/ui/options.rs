@@ -44,13 +44,13 @@ fn main() {}
 #[ffr::flex_body(shape = "beam2", elements = 2, modes = 2)]
 pub struct ModesWithoutParams { pub length: f64, pub rho: f64, pub area: f64, pub iz: f64, pub e: f64 }
 
-#[ffr::flex_body(shape = "beam2", elements = 2, static_modes = true, boundary = [2])]
+#[ffr::flex_body(shape = "beam2", elements = 2, static_modes = true, boundary_nodes = [2])]
 pub struct ModalOptionsWithoutModes { pub length: f64, pub rho: f64, pub area: f64, pub iz: f64, pub e: f64 }
 
 #[ffr::flex_body(shape = "beam2", elements = 2, modes = 0, reduction = "guyan", params(length = 1.0, rh = 2.0, e = "7e10"))]
 pub struct BadModalValues { pub length: f64, pub rho: f64, pub area: f64, pub iz: f64, pub e: f64 }
 
-#[ffr::flex_body(shape = "beam2", elements = 2, modes = 1, boundary = [2], params(length = 1.0))]
+#[ffr::flex_body(shape = "beam2", elements = 2, modes = 1, boundary_nodes = [2], modal_damping = "0.02", params(length = 1.0))]
 pub struct BoundaryWithoutCraigBampton { pub length: f64, pub rho: f64, pub area: f64, pub iz: f64, pub e: f64 }
 
 #[ffr::flex_body(shape = "beam2", elements = 2, modes = 9, params(length = 1.0, rho = 2700.0))]
