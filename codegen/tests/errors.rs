@@ -238,3 +238,66 @@ fn kernel_options_that_make_no_sense() {
         "unknown formalism `diagonal`: expected consistent or lumped"
     );
 }
+
+/// A modal body in a build script (`BodyConfig::modes`): bad parameters,
+/// too many modes, a bad boundary node or a section table (not yet
+/// supported) are errors that
+/// name the body, not panics; a good one renders `<Name>Modal`.
+#[test]
+fn modal_bodies_in_a_build_script() {
+    use ffr_codegen::{BodyConfig, Builder, ModalSettings, Params};
+    let p = Params {
+        length: 2.0,
+        rho: 2700.0,
+        area: 3e-4,
+        iy: 0.0,
+        iz: 4e-9,
+        e: 7e10,
+        g: 0.0,
+        j: 0.0,
+    };
+    let render = |p: Params, s: ModalSettings, sections: bool| {
+        let shape = if sections { "beam3" } else { "beam2" };
+        let mut b = BodyConfig::new("link", shape, 2, Reference::Clamped).modes(p, s);
+        if sections {
+            b = b.sections("../tests/data/taper.csv");
+        }
+        Builder::new()
+            .manifest_dir(env!("CARGO_MANIFEST_DIR"))
+            .body(b)
+            .render()
+            .map(|f| f[0].contents.clone())
+            .map_err(|e| e.to_string())
+    };
+    let ok = render(p, ModalSettings::truncation(2), false).unwrap();
+    assert!(ok.contains("pub struct LinkModal;"), "{ok}");
+    let cases = [
+        (
+            Params { e: 0.0, ..p },
+            ModalSettings::truncation(2),
+            "body `link`: parameter `e` must be positive",
+        ),
+        (
+            p,
+            ModalSettings::truncation(7),
+            "body `link`: modes must be between 1 and 6",
+        ),
+        (
+            p,
+            ModalSettings {
+                boundary: vec![5],
+                ..ModalSettings::truncation(1)
+            },
+            "body `link`: boundary node 5 out of range",
+        ),
+    ];
+    for (p, s, msg) in cases {
+        let e = render(p, s, false).unwrap_err();
+        assert!(e.contains(msg), "{e}");
+    }
+    let e = render(p, ModalSettings::truncation(2), true).unwrap_err();
+    assert!(
+        e.contains("body `link`: a modal body of a section table cannot be generated yet"),
+        "{e}"
+    );
+}
