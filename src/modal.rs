@@ -8,7 +8,7 @@
 
 use crate::codegen::body::ExactInvariants;
 use crate::codegen::limits::check_params;
-use crate::codegen::modal::{self, reduce, rigid_body_modes, ModalBasis, Reduction};
+use crate::codegen::modal::{self, reduce, ModalBasis, Reduction};
 use crate::codegen::poly::{Param, Poly, Sym};
 use crate::codegen::{BodySpec, Shape};
 use crate::invariants::check_invariants;
@@ -98,12 +98,7 @@ impl ReducibleBody {
         let invariants = modal::Invariants::from_exact(&exact, &p)?;
         let dofs: Vec<String> = spec.dofs().iter().map(|d| d.to_string()).collect();
         check_invariants(&to_runtime(&invariants), &dofs, formalism)?;
-        let rigid = if spec.reference == Reference::Free {
-            rigid_body_modes(&spec, p.length).ncols()
-        } else {
-            0
-        };
-        let available = dofs.len().saturating_sub(rigid);
+        let available = modal::elastic_modes(&spec, p.length);
         Ok(Self {
             spec,
             params: p,
@@ -331,21 +326,11 @@ impl ReducibleBody {
 
     /// One line naming the body.
     pub fn description(&self) -> String {
-        format!(
-            "{} ({}), {} {}elements{}, {}, {} formalism: {} elastic coordinates, {} elastic modes",
-            self.spec.shape.name,
-            self.spec.shape.origin,
-            self.spec.elements,
-            if self.nodes.is_some() { "graded " } else { "" },
-            if self.varying_sections {
-                " with varying sections"
-            } else {
-                ""
-            },
-            self.spec.reference,
-            self.spec.formalism,
-            self.dofs.len(),
-            self.available
+        modal::describe_body(
+            &self.spec,
+            self.nodes.is_some(),
+            self.varying_sections,
+            self.available,
         )
     }
 }

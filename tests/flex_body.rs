@@ -259,6 +259,7 @@ fn modal_bodies_from_the_attribute_are_the_runtime_ones() {
     let generated = SpinBeamModal::body().unwrap();
     assert_eq!(SpinBeamModal::MODES, 9);
     assert_eq!(generated.layout().labels, runtime.layout().labels);
+    assert_eq!(generated.data().description, runtime.data().description);
     assert_eq!(sample_bits(&generated, 1e-3), sample_bits(&runtime, 1e-3));
 
     let beam = BeamSpec::new("beam3", 3, TipBoundaryModal::params());

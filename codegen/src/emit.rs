@@ -877,8 +877,69 @@ pub fn modal_items(
     type_name: &str,
     runtime_path: &str,
 ) -> Result<String, crate::Error> {
-    use nalgebra::DMatrix;
     let (rt, ty) = (runtime_path, type_name);
+    let k = model.len();
+    let consts = modal_consts(model, description, rt)?;
+    let mut bad = None;
+    let params: Vec<String> = p
+        .to_array()
+        .iter()
+        .map(|&x| {
+            if !x.is_finite() {
+                bad = Some(format!("modal body: a parameter is {x}"));
+            }
+            lit(x)
+        })
+        .collect();
+    if let Some(msg) = bad {
+        return Err(crate::Error::Body(msg));
+    }
+    let freqs: Vec<String> = model
+        .basis
+        .frequencies
+        .iter()
+        .map(|w| format!("{w:.6e}"))
+        .collect();
+    let esc = |t: &str| t.replace('\\', "\\\\").replace('"', "\\\"");
+    Ok(format!(
+        "#[doc = \" The body `{ty}` at fixed parameters, reduced: {}.\"]
+#[doc = \"\"]
+#[doc = \" Normal-mode frequencies (rad/s): {}. The numbers are baked in; `body()` is\"]
+#[doc = \" the runtime's modal body over the full body `{ty}` at `params()`.\"]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct {ty}Modal;
+impl {ty}Modal {{
+#[doc = \" Number of modes.\"]
+pub const MODES: usize = {k};
+#[doc = \" The parameters the modes were computed at.\"]
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
+pub fn params() -> {rt}::spec::Params {{ {rt}::spec::Params::from_array([{}]) }}
+#[doc = \" The projected invariants, `Φ` and the damping.\"]
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
+pub const CONSTS: {rt}::ModalConsts = {consts};
+#[doc = \" The modal body: `CONSTS` over the full body `{ty}` at `params()`.\"]
+pub fn body() -> {rt}::Result<{rt}::ModalBody> {{
+let full = {rt}::KernelBody::new({ty}Kernels, Self::params(), <{ty} as {rt}::CompiledBody>::ELEMENTS, <{ty} as {rt}::CompiledBody>::REFERENCE)?;
+{rt}::ModalBody::new(::std::boxed::Box::new(full), Self::CONSTS.data()?)
+}}
+}}
+",
+        esc(description),
+        freqs.join(", "),
+        params.join(", "),
+    ))
+}
+
+/// `model` as a `ModalConsts` expression (unformatted; each number the
+/// shortest literal that reads back to the same bits); an error if a number
+/// is not finite.
+#[cfg(feature = "modal")]
+pub fn modal_consts(
+    model: &crate::modal::ModalModel,
+    description: &str,
+    rt: &str,
+) -> Result<String, crate::Error> {
+    use nalgebra::DMatrix;
     let inv = &model.projected;
     let k = model.len();
     let nf = model.basis.phi.nrows();
@@ -932,7 +993,6 @@ pub fn modal_items(
             .collect();
         format!("[{}]", r.join(", "))
     };
-    let params: Vec<String> = p.to_array().iter().map(|&x| num("params", x)).collect();
     if let Some(msg) = bad {
         return Err(crate::Error::Body(msg));
     }
@@ -942,53 +1002,28 @@ pub fn modal_items(
         .iter()
         .map(|l| format!("{l:?}"))
         .collect();
-    let freqs: Vec<String> = model
-        .basis
-        .frequencies
-        .iter()
-        .map(|w| format!("{w:.6e}"))
-        .collect();
-    let esc = |t: &str| t.replace('\\', "\\\\").replace('"', "\\\"");
     Ok(format!(
-        "#[doc = \" The body `{ty}` at fixed parameters, reduced: {}.\"]
-#[doc = \"\"]
-#[doc = \" Normal-mode frequencies (rad/s): {}. The numbers are baked in; `body()` is\"]
-#[doc = \" the runtime's modal body over the full body `{ty}` at `params()`.\"]
-#[derive(Clone, Copy, Debug, Default)]
-pub struct {ty}Modal;
-impl {ty}Modal {{
-#[doc = \" Number of modes.\"]
-pub const MODES: usize = {k};
-#[doc = \" The parameters the modes were computed at.\"]
-#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
-pub fn params() -> {rt}::spec::Params {{ {rt}::spec::Params::from_array([{}]) }}
-#[doc = \" The projected invariants, `Φ` and the damping.\"]
-#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
-pub const CONSTS: {rt}::ModalConsts = {rt}::ModalConsts {{ dim: {}, modes: {k}, nf: {nf}, mass: {mass}, s_t0: [{}], s_bar: {s_bar}, s_kl: {s_kl}, i_kl: {i_kl}, theta: {theta}, m_ff: {m_ff}, k_ff: {k_ff}, phi: {phi}, stiffening: {}, damping: {damping}, labels: &[{}], description: \"{}\" }};
-#[doc = \" The modal body: `CONSTS` over the full body `{ty}` at `params()`.\"]
-pub fn body() -> {rt}::Result<{rt}::ModalBody> {{
-let full = {rt}::KernelBody::new({ty}Kernels, Self::params(), <{ty} as {rt}::CompiledBody>::ELEMENTS, <{ty} as {rt}::CompiledBody>::REFERENCE)?;
-{rt}::ModalBody::new(::std::boxed::Box::new(full), Self::CONSTS.data()?)
-}}
-}}
-",
-        esc(description),
-        freqs.join(", "),
-        params.join(", "),
+        "{rt}::ModalConsts {{ dim: {}, modes: {k}, nf: {nf}, mass: {mass}, s_t0: [{}], s_bar: {s_bar}, s_kl: {s_kl}, i_kl: {i_kl}, theta: {theta}, m_ff: {m_ff}, k_ff: {k_ff}, phi: {phi}, stiffening: {}, damping: {damping}, labels: &[{}], description: {description:?} }}",
         inv.dim,
         s_t0.join(", "),
         model.stiffening.is_on(),
         labels.join(", "),
-        esc(description),
     ))
 }
 
 /// One line saying what the modal body of `spec` is.
 #[cfg(feature = "modal")]
-pub fn modal_description(model: &crate::modal::ModalModel, spec: &BodySpec) -> String {
-    model.describe(&format!(
-        "{} ({}), {} elements, {} reference, {} formalism",
-        spec.shape.name, spec.shape.origin, spec.elements, spec.reference, spec.formalism
+pub fn modal_description(
+    model: &crate::modal::ModalModel,
+    spec: &BodySpec,
+    p: &ffr_spec::Params,
+) -> String {
+    use crate::modal::{describe_body, elastic_modes};
+    model.describe(&describe_body(
+        spec,
+        false,
+        false,
+        elastic_modes(spec, p.length),
     ))
 }
 
@@ -1001,7 +1036,7 @@ pub fn emit_modal_body_file(
     model: &crate::modal::ModalModel,
     p: &ffr_spec::Params,
 ) -> Result<String, crate::Error> {
-    let description = modal_description(model, spec);
+    let description = modal_description(model, spec, p);
     let items = modal_items(model, p, &description, &opts.type_name, &opts.runtime_path)?;
     let more = [
         format!(

@@ -166,7 +166,7 @@ fn modal_items(
     crate::limits::check_params(p, used).map_err(|e| bad(e.to_string()))?;
     let model = crate::modal::ModalModel::of_body(spec, p, settings, input.options.stiffening)
         .map_err(|e| bad(e.to_string()))?;
-    let description = crate::emit::modal_description(&model, spec);
+    let description = crate::emit::modal_description(&model, spec, p);
     crate::emit::modal_items(&model, p, &description, input.type_name, input.runtime_path)
         .map_err(|e| bad(e.to_string()))
 }

@@ -13,6 +13,13 @@ pub trait KernelProvider {
     /// The kernels for `spec`, and how they run (`compiled`, `tape`, …).
     #[allow(clippy::type_complexity)]
     fn kernels(&self, spec: &FlexSpec) -> crate::Result<(Box<dyn ElementKernels>, &'static str)>;
+
+    /// A modal body's numbers computed when the scene was compiled (the
+    /// basis and projected invariants of `spec`'s reduction), or `None`:
+    /// reduce it when the scene is built (feature `scene-files`).
+    fn modal(&self, _spec: &FlexSpec) -> Option<&'static crate::runtime::ModalConsts> {
+        None
+    }
 }
 
 /// Built-in compiled kernels when they exist, else tapes of the body's

@@ -35,7 +35,7 @@ pub use basis::{
 };
 pub use energy::{project_energy, substitute_params, MAX_ENERGY_DEGREE};
 pub use invariants::{eval_poly, Invariants};
-pub use model::ModalModel;
+pub use model::{describe_body, elastic_modes, ModalModel};
 
 /// What can go wrong in a modal reduction.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]

@@ -141,3 +141,36 @@ impl ModalModel {
         )
     }
 }
+
+/// One line naming a body to be reduced: shape, mesh, reference,
+/// formalism, its elastic coordinates and `available` elastic modes
+/// (`graded`: a graded mesh; `varying`: a section table).
+pub fn describe_body(spec: &BodySpec, graded: bool, varying: bool, available: usize) -> String {
+    format!(
+        "{} ({}), {} {}elements{}, {}, {} formalism: {} elastic coordinates, {} elastic modes",
+        spec.shape.name,
+        spec.shape.origin,
+        spec.elements,
+        if graded { "graded " } else { "" },
+        if varying {
+            " with varying sections"
+        } else {
+            ""
+        },
+        spec.reference,
+        spec.formalism,
+        spec.nf(),
+        available
+    )
+}
+
+/// The elastic modes of `spec` at body length `length`: its elastic
+/// coordinates less the rigid-body motions of a free body.
+pub fn elastic_modes(spec: &BodySpec, length: f64) -> usize {
+    let rigid = if spec.reference == ffr_spec::Reference::Free {
+        super::rigid_body_modes(spec, length).ncols()
+    } else {
+        0
+    };
+    spec.nf().saturating_sub(rigid)
+}

@@ -137,6 +137,7 @@ fn generated_modal_body_is_the_runtime_one() {
     let settings = ffr::modal::ModalSettings::truncation(2);
     let runtime = ffr::modal::modal_body(&beam, &settings).unwrap();
     assert_eq!(generated.layout().labels, runtime.layout().labels);
+    assert_eq!(generated.data().description, runtime.data().description);
     assert_eq!(generated.layout().nf, SpinUpBeamModal::MODES);
     assert_eq!(
         generated.data().phi.nrows(),

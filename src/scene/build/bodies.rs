@@ -182,8 +182,16 @@ fn flexible(
             Box::new(kb)
         }
         Some((settings, modes_at)) => {
-            let mb = reduce(f, settings, kb)
-                .map_err(|e| err(modes_at, format!("body `{name}`: {e}")))?;
+            let mb = match provider.modal(f) {
+                // Reduced when the scene was compiled.
+                Some(consts) => consts
+                    .data()
+                    .and_then(|d| crate::runtime::ModalBody::new(Box::new(kb), d))
+                    .map(|mb| Box::new(mb) as Box<dyn Body>)
+                    .map_err(crate::Error::from),
+                None => reduce(f, settings, kb),
+            }
+            .map_err(|e| err(modes_at, format!("body `{name}`: {e}")))?;
             parts.kernels.push((
                 name.clone(),
                 format!(
