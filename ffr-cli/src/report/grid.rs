@@ -346,7 +346,13 @@ fn spin_up(cases: &mut Vec<Case>, scene: Scene, full: bool) {
         add(cases, scene, ga.tape(), &[2, 8, 32], &[1e-2, 2e-3]);
         add(cases, scene, ga.general(), &[2, 8, 32], &[1e-2, 2e-3]);
         // Lumped inertia converges as h² (docs/theory.md §7): a family of its own.
-        add(cases, scene, ga.lumped(), &[4, 8, 16, 32, 64], &[1e-2, 2e-3]);
+        add(
+            cases,
+            scene,
+            ga.lumped(),
+            &[4, 8, 16, 32, 64],
+            &[1e-2, 2e-3],
+        );
         // The linear model diverges on both spin-ups (above the first bending
         // frequency, 2.9 rad/s): one run records how.
         add(
