@@ -4,6 +4,7 @@
 Writes, into bench/reference/ (or --out):
   spin_up_omega4.csv, spin_up_omega10.csv   t,tip_axial,tip_transverse (hub frame)
   spin_up_precone_omega4.csv                 t,tip_u,tip_v,tip_w (clamped beam frame)
+  spin_up_gravity_omega4.csv                 t,tip_u,tip_v,tip_w (hub frame; gravity along -z)
   convergence.md                             the refinement tables of this run
 
 Planar reference: ObjectANCFCable2D, 64 elements, dt = 1e-4 (element ladder
@@ -13,9 +14,12 @@ with the tube's shear stiffness and with ten times that.
 Precone reference: ObjectANCFCable (3D), 32 elements, dt = 1e-4 (ladders
 8/16/32 and 4e-4/2e-4/1e-4), checked against ObjectBeamGeometricallyExact (3D
 Simo-Reissner) at 16/32/64 elements. See bench/reference/README.md.
+Gravity reference (the straight beam spun up under g = 9.81 along -z, the spin
+axis): ObjectANCFCable, 64 elements, dt = 1e-4 (ladders 16/32/64 and
+4e-4/2e-4/1e-4), checked against ObjectBeamGeometricallyExact at 16/32/64.
 
 Usage: bench/peers/.venv/bin/python bench/peers/spin_up_reference.py [--jobs 2]
-       [--only omega4,omega10,precone] [--out DIR]
+       [--only omega4,omega10,precone,gravity] [--out DIR]
 """
 
 import argparse
