@@ -35,6 +35,7 @@ from exudyn.itemInterface import (
     VObjectRigidBody2D, VObjectRigidBody, VObjectJointGeneric,
     NodePointSlope1, ObjectANCFCable, VObjectANCFCable, MarkerNodeCoordinates,
     ObjectConnectorCoordinateVector, VObjectConnectorCoordinateVector,
+    MarkerBodyMass, LoadMassProportional,
 )
 
 # ---- KRB data (PLAN.md) ----------------------------------------------------
@@ -151,7 +152,15 @@ def build_gx2d(mbs, n_el, omega_s, shear=GA_K, rot_inertia=RHO * I):
     return nodes[-1]
 
 
-# ---- spatial precone model ---------------------------------------------------
+# ---- spatial models (precone; gravity along the spin axis) --------------------
+def _gravity_load(mbs, body, gravity):
+    """Gravity g along -z (global, i.e. along the spin axis) on one element:
+    a mass-proportional load, integrated with the element's own mass."""
+    if gravity:
+        m = mbs.AddMarker(MarkerBodyMass(bodyNumber=body))
+        mbs.AddLoad(LoadMassProportional(markerNumber=m, loadVector=[0.0, 0.0, -gravity]))
+
+
 def section3d():
     s = exu.BeamSection()
     s.massPerLength = RHO_A
@@ -160,7 +169,7 @@ def section3d():
     return s
 
 
-def build_gx3d_precone(mbs, n_el, omega_s, beta):
+def build_gx3d_precone(mbs, n_el, omega_s, beta, gravity=0.0):
     mbs.AddObject(ObjectGround())
     mGround = _ground_coordinate(mbs)
     axis = np.array([math.cos(beta), 0.0, math.sin(beta)])
@@ -174,9 +183,10 @@ def build_gx3d_precone(mbs, n_el, omega_s, beta):
     nodes = [mbs.AddNode(NodeRigidBodyEP(referenceCoordinates=list(i * le * axis) + ep0))
              for i in range(n_el + 1)]
     for i in range(n_el):
-        mbs.AddObject(ObjectBeamGeometricallyExact(
+        o = mbs.AddObject(ObjectBeamGeometricallyExact(
             nodeNumbers=[nodes[i], nodes[i + 1]], length=le, sectionData=sec,
             visualization=VObjectBeamGeometricallyExact(show=False)))
+        _gravity_load(mbs, o, gravity)
     # hub: Tait-Bryan node with angles (0, 0, theta); R = Rz(theta) since the
     # first two angles stay 0 (far from the xyz singularity)
     nHub = mbs.AddNode(NodeRigidBodyRxyz(referenceCoordinates=[0] * 6))
@@ -193,7 +203,7 @@ def build_gx3d_precone(mbs, n_el, omega_s, beta):
     return nodes[-1], R_beam
 
 
-def build_ancf3d_precone(mbs, n_el, omega_s, beta):
+def build_ancf3d_precone(mbs, n_el, omega_s, beta, gravity=0.0):
     """3D ANCF cable (Euler-Bernoulli, no torsion), clamp: node 0 position = 0 and
     its slope parallel to the rotating beam axis e(t) = Rz(theta) (cos b, 0, sin b):
     two scalar constraints n_k(t) . r'(0) = 0 (direction only, the slope length,
@@ -206,9 +216,10 @@ def build_ancf3d_precone(mbs, n_el, omega_s, beta):
     nodes = [mbs.AddNode(NodePointSlope1(referenceCoordinates=[i * le * cb, 0.0, i * le * sb, cb, 0.0, sb]))
              for i in range(n_el + 1)]
     for i in range(n_el):
-        mbs.AddObject(ObjectANCFCable(
+        o = mbs.AddObject(ObjectANCFCable(
             nodeNumbers=[nodes[i], nodes[i + 1]], length=le, massPerLength=RHO_A,
             bendingStiffness=EI, axialStiffness=EA, visualization=VObjectANCFCable(show=False)))
+        _gravity_load(mbs, o, gravity)
     _prescribe(mbs, mGround, nodes[0], [0, 1, 2], {})
     nG = mbs.AddNode(NodePointGround(referenceCoordinates=[0, 0, 0]))
     mG = mbs.AddMarker(MarkerNodeCoordinates(nodeNumber=nG))
@@ -268,7 +279,7 @@ def settings(dt, t_end, rho_inf=0.8, rel_tol=1e-8, abs_tol=1e-6, sample=None,
     return s
 
 
-def run(model, n_el, omega_s, dt, t_end, beta=0.05, sample=None, kw_hints=False, **kw):
+def run(model, n_el, omega_s, dt, t_end, beta=0.05, sample=None, kw_hints=False, gravity=0.0, **kw):
     """Build, solve; returns (t, cols, cpu_s). cols = (axial, transverse) in the hub
     frame (2D) or (u, v, w) in the clamped beam frame (precone). cpu_s is
     time.process_time() around mbs.SolveDynamic only."""
@@ -282,9 +293,9 @@ def run(model, n_el, omega_s, dt, t_end, beta=0.05, sample=None, kw_hints=False,
     elif model == 'gx2d':
         tip = build_gx2d(mbs, n_el, omega_s, **model_kw)
     elif model == 'ancf3d':
-        tip, R_beam = build_ancf3d_precone(mbs, n_el, omega_s, beta)
+        tip, R_beam = build_ancf3d_precone(mbs, n_el, omega_s, beta, gravity)
     elif model == 'gx3d':
-        tip, R_beam = build_gx3d_precone(mbs, n_el, omega_s, beta)
+        tip, R_beam = build_gx3d_precone(mbs, n_el, omega_s, beta, gravity)
     else:
         raise ValueError(model)
     sens = mbs.AddSensor(SensorNode(nodeNumber=tip, outputVariableType=exu.OutputVariableType.Position,

@@ -5,7 +5,7 @@
 #   bench/peers/run.sh              full grid (about 10 min CPU)
 #   bench/peers/run.sh --quick      small grid, one repetition (under a minute)
 #   bench/peers/run.sh --reference  also regenerate bench/reference/*.csv first
-#                                   (about 20 min CPU, two processes)
+#                                   (about 26 min CPU, two processes)
 # Other arguments are passed to spin_up_peer.py. CI never needs this.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"

@@ -4,6 +4,7 @@
 Writes, into bench/reference/ (or --out):
   spin_up_omega4.csv, spin_up_omega10.csv   t,tip_axial,tip_transverse (hub frame)
   spin_up_precone_omega4.csv                 t,tip_u,tip_v,tip_w (clamped beam frame)
+  spin_up_gravity_omega4.csv                 t,tip_u,tip_v,tip_w (hub frame; gravity along -z)
   convergence.md                             the refinement tables of this run
 
 Planar reference: ObjectANCFCable2D, 64 elements, dt = 1e-4 (element ladder
@@ -13,9 +14,12 @@ with the tube's shear stiffness and with ten times that.
 Precone reference: ObjectANCFCable (3D), 32 elements, dt = 1e-4 (ladders
 8/16/32 and 4e-4/2e-4/1e-4), checked against ObjectBeamGeometricallyExact (3D
 Simo-Reissner) at 16/32/64 elements. See bench/reference/README.md.
+Gravity reference (the straight beam spun up under g = 9.81 along -z, the spin
+axis): ObjectANCFCable, 64 elements, dt = 1e-4 (ladders 16/32/64 and
+4e-4/2e-4/1e-4), checked against ObjectBeamGeometricallyExact at 16/32/64.
 
 Usage: bench/peers/.venv/bin/python bench/peers/spin_up_reference.py [--jobs 2]
-       [--only omega4,omega10,precone] [--out DIR]
+       [--only omega4,omega10,precone,gravity] [--out DIR]
 """
 
 import argparse
@@ -35,6 +39,7 @@ import krb_exudyn as k  # noqa: E402
 T_END = float(os.environ.get("KRB_REF_T_END", "30"))  # override only to smoke-test the script
 SAMPLE = 0.002
 N_SAMPLES = int(round(T_END / SAMPLE)) + 1
+N20 = int(round(min(T_END, 20.0) / SAMPLE)) + 1  # samples of the report's 0-20 s
 RHO_INF = 0.8          # generalized-alpha spectral radius (rho = 1 drifts and fails, see README)
 BETA = 0.05            # precone angle (rad)
 
@@ -66,11 +71,31 @@ def precone_cases():
     return c
 
 
+GRAVITY = 9.81         # gravity case: g along -z, the spin axis; no precone
+GRAV = dict(beta=0.0, gravity=GRAVITY)
+
+
+def gravity_cases():
+    """Spin-up of the straight beam (no precone) under gravity along the spin
+    axis: both bending planes active. The precone case's ladders one element
+    level finer (the beam swings through 3.3 m under gravity)."""
+    c = []
+    for n in (16, 32, 64):
+        c.append((f'grav ancf3d n={n} dt=1e-4', 'ancf3d', n, 1e-4, 4.0, GRAV))
+    for dt in (4e-4, 2e-4):
+        c.append((f'grav ancf3d n=64 dt={dt:g}', 'ancf3d', 64, dt, 4.0, GRAV))
+    for n in (16, 32, 64):
+        c.append((f'grav gx3d n={n} dt=1e-3', 'gx3d', n, 1e-3, 4.0, GRAV))
+    return c
+
+
 def run_case(case):
     label, model, n, dt, om, opts = case
+    kw = dict(beta=BETA)
+    kw.update(opts)
     w0 = time.time()
     try:
-        t, cols, cpu = k.run(model, n, om, dt, T_END, beta=BETA, sample=SAMPLE, rho_inf=RHO_INF, **opts)
+        t, cols, cpu = k.run(model, n, om, dt, T_END, sample=SAMPLE, rho_inf=RHO_INF, **kw)
     except Exception as e:  # reported, and the tables leave the run out
         print(f'  FAILED {label} omega={om:g}: {e}', file=sys.stderr, flush=True)
         return dict(label=label, model=model, n=n, dt=dt, omega=om, failed=True)
@@ -153,10 +178,15 @@ def finish_planar(r, ref, lines):
     return ref
 
 
-def precone_tables(runs, lines):
-    r = {x['label']: x for x in runs}
-    ref = r['ancf3d n=32 dt=1e-4']
-    lines.append(f'\n## precone, omega_s = 4 rad/s, beta = {BETA:g} rad (spatial)\n')
+def precone_tables(runs, lines, prefix='', title=None, n=(8, 16, 32)):
+    """The spatial tables; `prefix` selects the gravity case's labels, `n` its
+    element ladder (the last is the reference mesh and the step ladder's)."""
+    r = {x['label'][len(prefix):]: x for x in runs if x['label'].startswith(prefix)}
+    n0, n1, n2 = n
+    ref = r[f'ancf3d n={n2} dt=1e-4']
+    if title is None:
+        title = f'precone, omega_s = 4 rad/s, beta = {BETA:g} rad (spatial)'
+    lines.append(f'\n## {title}\n')
     lines.append('Peaks: min tip_v and min tip_w over 0-30 s; differences are max over the 0-30 s history.\n')
     lines.append('| run | CPU s | peak tip_v (m) | peak tip_w (m) | vs | max |d u| | max |d v| | max |d w| |')
     lines.append('|---|---:|---:|---:|---|---:|---:|---:|')
@@ -174,34 +204,35 @@ def precone_tables(runs, lines):
         lines.append(f"| {a['label']} | {a['cpu']:.1f} | {pv:.8f} | {pw:.8f} | {b['label']} | "
                      f"{fmt(d[0])} | {fmt(d[1])} | {fmt(d[2])} |")
 
-    row(r['ancf3d n=8 dt=1e-4'], None)
-    row(r['ancf3d n=16 dt=1e-4'], r['ancf3d n=8 dt=1e-4'])
-    row(r['ancf3d n=32 dt=1e-4'], r['ancf3d n=16 dt=1e-4'])
-    row(r['ancf3d n=32 dt=0.0004'], None)
-    row(r['ancf3d n=32 dt=0.0002'], r['ancf3d n=32 dt=0.0004'])
-    row(r['ancf3d n=32 dt=1e-4'], r['ancf3d n=32 dt=0.0002'])
+    row(r[f'ancf3d n={n0} dt=1e-4'], None)
+    row(r[f'ancf3d n={n1} dt=1e-4'], r[f'ancf3d n={n0} dt=1e-4'])
+    row(r[f'ancf3d n={n2} dt=1e-4'], r[f'ancf3d n={n1} dt=1e-4'])
+    row(r[f'ancf3d n={n2} dt=0.0004'], None)
+    row(r[f'ancf3d n={n2} dt=0.0002'], r[f'ancf3d n={n2} dt=0.0004'])
+    row(r[f'ancf3d n={n2} dt=1e-4'], r[f'ancf3d n={n2} dt=0.0002'])
     row(r['gx3d n=16 dt=1e-3'], ref)
     row(r['gx3d n=32 dt=1e-3'], ref)
     row(r['gx3d n=64 dt=1e-3'], ref)
     row(r['gx3d n=32 dt=1e-3'], r['gx3d n=16 dt=1e-3'])
     row(r['gx3d n=64 dt=1e-3'], r['gx3d n=32 dt=1e-3'])
     if r['gx3d n=32 dt=1e-3']['failed'] or r['gx3d n=64 dt=1e-3']['failed']:
-        return finish_precone(r, ref, lines)
+        return finish_precone(r, ref, lines, n1, n2)
     g32 = r['gx3d n=32 dt=1e-3']['cols']
     g64 = r['gx3d n=64 dt=1e-3']['cols']
     ext = g64 + (g64 - g32) / 3.0
     d = np.abs(ext - ref['cols']).max(axis=1)
     lines.append(f"| gx3d extrapolated (h -> 0) | | {peak(ext[1])[0]:.8f} | {peak(ext[2])[0]:.8f} | "
                  f"{ref['label']} | {fmt(d[0])} | {fmt(d[1])} | {fmt(d[2])} |")
-    return finish_precone(r, ref, lines)
+    return finish_precone(r, ref, lines, n1, n2)
 
 
-def finish_precone(r, ref, lines):
-    dt_d = np.abs(r['ancf3d n=32 dt=1e-4']['cols'] - r['ancf3d n=32 dt=0.0002']['cols']).max(axis=1)
-    el_d = np.abs(r['ancf3d n=32 dt=1e-4']['cols'] - r['ancf3d n=16 dt=1e-4']['cols']).max(axis=1)
-    lines.append(f'\nReference = ancf3d n=32 dt=1e-4. Estimated error (u, v, w): step '
+def finish_precone(r, ref, lines, n1=16, n2=32):
+    dt_d = np.abs(r[f'ancf3d n={n2} dt=1e-4']['cols'] - r[f'ancf3d n={n2} dt=0.0002']['cols']).max(axis=1)
+    el_d = np.abs(r[f'ancf3d n={n2} dt=1e-4']['cols'] - r[f'ancf3d n={n1} dt=1e-4']['cols']).max(axis=1)
+    lines.append(f'\nReference = ancf3d n={n2} dt=1e-4. Estimated error (u, v, w): step '
                  f'{", ".join(fmt(x / 3) for x in dt_d)} (difference to dt=2e-4 / 3), elements <= '
-                 f'{", ".join(fmt(x) for x in el_d)} (difference to 16 elements).\n')
+                 f'{", ".join(fmt(x) for x in el_d)} (difference to {n1} elements). Peaks of the file over '
+                 f'0-20 s (min v, min w): {np.min(ref["cols"][1][:N20]):.8f}, {np.min(ref["cols"][2][:N20]):.8f}.\n')
     return ref
 
 
@@ -216,7 +247,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--out', default=os.path.join(HERE, '..', 'reference'))
     ap.add_argument('--jobs', type=int, default=1)
-    ap.add_argument('--only', default='omega4,omega10,precone')
+    ap.add_argument('--only', default='omega4,omega10,precone,gravity')
     a = ap.parse_args()
     which = a.only.split(',')
     cases = []
@@ -226,6 +257,8 @@ def main():
         cases += planar_cases(10.0)
     if 'precone' in which:
         cases += precone_cases()
+    if 'gravity' in which:
+        cases += gravity_cases()
     # most expensive first, so that two workers finish together
     cost = {'ancf2d': 1.0, 'gx2d': 0.6, 'ancf3d': 1.3, 'gx3d': 12.0}
     cases.sort(key=lambda c: -cost[c[1]] * c[2] / c[3] * (1.5 if c[4] > 5 else 1.0))
@@ -249,9 +282,16 @@ def main():
             ref = planar_tables([x for x in runs if x['omega'] == om and x['model'].endswith('2d')], om, lines)
             write_csv(os.path.join(a.out, f'spin_up_{name}.csv'), 't,tip_axial,tip_transverse', ref['cols'])
     if 'precone' in which:
-        ref = precone_tables([x for x in runs if x['model'].endswith('3d')], lines)
+        ref = precone_tables([x for x in runs if x['model'].endswith('3d') and not x['label'].startswith('grav ')],
+                             lines)
         write_csv(os.path.join(a.out, 'spin_up_precone_omega4.csv'), 't,tip_u,tip_v,tip_w', ref['cols'])
-    name = 'convergence.md' if which == ['omega4', 'omega10', 'precone'] else f'convergence-{"-".join(which)}.md'
+    if 'gravity' in which:
+        ref = precone_tables(runs, lines, prefix='grav ',
+                             title=f'gravity along the spin axis, omega_s = 4 rad/s, g = {GRAVITY:g} m/s^2 along -z, '
+                                   'no precone (spatial)', n=(16, 32, 64))
+        write_csv(os.path.join(a.out, 'spin_up_gravity_omega4.csv'), 't,tip_u,tip_v,tip_w', ref['cols'])
+    full = ['omega4', 'omega10', 'precone', 'gravity']
+    name = 'convergence.md' if which == full else f'convergence-{"-".join(which)}.md'
     with open(os.path.join(a.out, name), 'w') as f:
         f.write('\n'.join(lines) + '\n')
     print('\n'.join(lines))

@@ -20,6 +20,7 @@ pub struct Reference {
 const OMEGA4: &str = include_str!("../../bench/reference/spin_up_omega4.csv");
 const OMEGA10: &str = include_str!("../../bench/reference/spin_up_omega10.csv");
 const PRECONE4: &str = include_str!("../../bench/reference/spin_up_precone_omega4.csv");
+const GRAVITY4: &str = include_str!("../../bench/reference/spin_up_gravity_omega4.csv");
 
 fn parse(text: &str, source: &'static str) -> Reference {
     let mut lines = text.lines();
@@ -63,6 +64,15 @@ pub fn precone() -> Reference {
     parse(
         PRECONE4,
         "Exudyn 1.13.6 ANCF cable 3D, 32 elements, dt 1e-4 (bench/reference/README.md)",
+    )
+}
+
+/// The spatial spin-up under gravity along the spin axis (ω_s = 4 rad/s,
+/// g = 9.81 m/s² along −z, no precone): `tip_u, tip_v, tip_w` in the hub frame.
+pub fn spin_up_gravity() -> Reference {
+    parse(
+        GRAVITY4,
+        "Exudyn 1.13.6 ANCF cable 3D, 64 elements, dt 1e-4 (bench/reference/README.md)",
     )
 }
 

@@ -62,6 +62,9 @@ pub struct SpinUp {
     pub force_tape: bool,
     /// Reduce the beam to modes (`None`: the full nodal body).
     pub modal: Option<ModalSettings>,
+    /// Gravity along the spin axis, `−z` (m/s²; spatial model only, 0 in
+    /// the benchmark): the beam also bends out of the rotation plane.
+    pub gravity: f64,
 }
 
 impl SpinUp {
@@ -82,6 +85,7 @@ impl SpinUp {
             general: false,
             force_tape: false,
             modal: None,
+            gravity: 0.0,
         }
     }
 
@@ -97,6 +101,9 @@ impl SpinUp {
                 scene: self.general.then_some(SceneDim::Spatial),
                 frame: if self.general {
                     FrameModel::Free
+                } else if self.gravity != 0.0 {
+                    // gravity is a frame acceleration `ā = −Aᵀg` to the body
+                    FrameModel::Prescribed
                 } else {
                     FrameModel::PrescribedAtRest
                 },
@@ -192,12 +199,20 @@ pub fn interpolate(ts: &[f64], ys: &[f64], t: f64) -> Option<f64> {
     Some(ys[i - 1] * (1.0 - w) + ys[i] * w)
 }
 
-/// `ω_s` finite and `T > 0`, or an error naming them.
+/// `ω_s` finite and `T > 0`, gravity finite and only in the spatial
+/// model, or an error naming them.
 fn check_drive(cfg: &SpinUp) -> Result<(), Box<dyn std::error::Error>> {
     if !(cfg.omega_s.is_finite() && cfg.t_ramp > 0.0 && cfg.t_ramp.is_finite()) {
         return Err(format!(
             "spin-up needs a finite ω_s and T > 0 (got {}, {})",
             cfg.omega_s, cfg.t_ramp
+        )
+        .into());
+    }
+    if !cfg.gravity.is_finite() || (cfg.gravity != 0.0 && !cfg.spatial) {
+        return Err(format!(
+            "spin-up: gravity along the spin axis needs the spatial model and a finite value (got {})",
+            cfg.gravity
         )
         .into());
     }
@@ -217,6 +232,9 @@ fn hub_system<B: ffr::runtime::Body>(
     };
     let b = sys.add_body("beam", body, Pose::identity(sys.dim()))?;
     sys.prescribe_rotation_about_z(b, cfg.driver())?;
+    if cfg.gravity != 0.0 {
+        sys.set_gravity(ffr::runtime::nalgebra::Vector3::new(0.0, 0.0, -cfg.gravity))?;
+    }
     Ok(sys)
 }
 

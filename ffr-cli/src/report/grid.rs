@@ -12,6 +12,9 @@ pub enum Scene {
     SpinUp4,
     /// KRB spin-up beam, `ω_s = 10 rad/s`, 0–20 s.
     SpinUp10,
+    /// KRB spin-up beam in space (`beam3`), `ω_s = 4 rad/s`, under gravity
+    /// along the spin axis (both bending planes), 0–20 s.
+    SpinUp3d,
     /// Simeon's flexible slider crank, 0–0.1 s.
     SliderCrank,
     /// Free flexible pendulum under gravity, 0–1 s.
@@ -22,9 +25,10 @@ pub enum Scene {
 
 impl Scene {
     /// Every scene, in report order.
-    pub const ALL: [Scene; 5] = [
+    pub const ALL: [Scene; 6] = [
         Scene::SpinUp4,
         Scene::SpinUp10,
+        Scene::SpinUp3d,
         Scene::SliderCrank,
         Scene::Pendulum,
         Scene::FreeFloating,
@@ -35,6 +39,7 @@ impl Scene {
         match self {
             Scene::SpinUp4 => "spin-up-4",
             Scene::SpinUp10 => "spin-up-10",
+            Scene::SpinUp3d => "spin-up-3d",
             Scene::SliderCrank => "slider-crank",
             Scene::Pendulum => "pendulum",
             Scene::FreeFloating => "free-floating",
@@ -49,7 +54,7 @@ impl Scene {
     /// The kind of error the report measures for this scene.
     pub fn error_kind(self) -> ErrorKind {
         match self {
-            Scene::SpinUp4 | Scene::SpinUp10 => ErrorKind::Reference,
+            Scene::SpinUp4 | Scene::SpinUp10 | Scene::SpinUp3d => ErrorKind::Reference,
             Scene::SliderCrank => ErrorKind::Published,
             Scene::Pendulum => ErrorKind::Energy,
             Scene::FreeFloating => ErrorKind::Momentum,
@@ -59,7 +64,7 @@ impl Scene {
     /// Simulated time span (s).
     pub fn t_end(self) -> f64 {
         match self {
-            Scene::SpinUp4 | Scene::SpinUp10 => 20.0,
+            Scene::SpinUp4 | Scene::SpinUp10 | Scene::SpinUp3d => 20.0,
             Scene::SliderCrank => crate::benchmarks::slider_crank::T_END,
             Scene::Pendulum => 1.0,
             Scene::FreeFloating => 0.2,
@@ -71,6 +76,9 @@ impl Scene {
         match self {
             Scene::SpinUp4 => "KRB spin-up beam, ω_s = 4 rad/s (0–20 s)",
             Scene::SpinUp10 => "KRB spin-up beam, ω_s = 10 rad/s (0–20 s)",
+            Scene::SpinUp3d => {
+                "KRB spin-up beam in space, ω_s = 4 rad/s, gravity along the spin axis (beam3, 0–20 s)"
+            }
             Scene::SliderCrank => "Flexible slider crank (Simeon, IVP test set; 0–0.1 s)",
             Scene::Pendulum => "Free flexible pendulum, beam2, under gravity (0–1 s)",
             Scene::FreeFloating => "Free-floating flexible beam3 in space (0–0.2 s)",
@@ -169,7 +177,7 @@ pub enum BodyModel {
     /// it measures the published solution with the published discretization.
     /// `elements` is its number of lateral modes, 2.
     SimeonRod,
-    /// Spin-up only: a modal body ([`ffr::modal`]) of the
+    /// Spin-ups only: a modal body ([`ffr::modal`]) of the
     /// [`MODAL_MESH`]-element beam: `elements` is its number of normal
     /// modes, with the static modes (inertia loads, modal derivatives).
     Modal,
@@ -337,7 +345,14 @@ fn spin_up(cases: &mut Vec<Case>, scene: Scene, full: bool) {
         add(cases, scene, rk4, &[8], &[2.5e-4, 1.25e-4]);
         add(cases, scene, ga.tape(), &[2, 8, 32], &[1e-2, 2e-3]);
         add(cases, scene, ga.general(), &[2, 8, 32], &[1e-2, 2e-3]);
-        add(cases, scene, ga.lumped(), &[8], &[1e-2]);
+        // Lumped inertia converges as h² (docs/theory.md §7): a family of its own.
+        add(
+            cases,
+            scene,
+            ga.lumped(),
+            &[4, 8, 16, 32, 64],
+            &[1e-2, 2e-3],
+        );
         // The linear model diverges on both spin-ups (above the first bending
         // frequency, 2.9 rad/s): one run records how.
         add(
@@ -366,6 +381,40 @@ fn spin_up(cases: &mut Vec<Case>, scene: Scene, full: bool) {
         add(cases, scene, ga.tape(), &[8], &[1e-2]);
         add(cases, scene, ga.general(), &[8], &[1e-2]);
         add(cases, scene, ga.lumped(), &[8], &[1e-2]);
+    }
+}
+
+/// The spatial spin-up's cases: consistent and lumped bodies over elements
+/// and steps, the second-order model at a few, and the modal bodies
+/// ([`modal_cases`]).
+fn spin_up_3d(cases: &mut Vec<Case>, full: bool) {
+    let scene = Scene::SpinUp3d;
+    let ga = Method::new(Scheme::Alpha(0.8), FourthOrder);
+    if full {
+        add(
+            cases,
+            scene,
+            ga,
+            &[2, 4, 8, 16, 32],
+            &[1e-2, 5e-3, 2e-3, 1e-3, 5e-4],
+        );
+        add(
+            cases,
+            scene,
+            ga.lumped(),
+            &[4, 8, 16, 32],
+            &[1e-2, 2e-3, 1e-3],
+        );
+        add(
+            cases,
+            scene,
+            Method::new(Scheme::Alpha(0.8), SecondOrder),
+            &[8, 16],
+            &[1e-2, 2e-3],
+        );
+    } else {
+        add(cases, scene, ga, &[4], &[1e-2]);
+        add(cases, scene, ga.lumped(), &[4], &[1e-2]);
     }
 }
 
@@ -483,23 +532,24 @@ fn free_floating(cases: &mut Vec<Case>, full: bool) {
 }
 
 /// Modal bodies: the spin-ups with the [`MODAL_MESH`]-element beam reduced
-/// to 2, 4 and 8 normal modes plus static modes (`elements` = the number of
+/// to 2, 4 and 8 normal modes (in space, where each bending mode comes in
+/// both planes, 4 and 8) plus static modes (`elements` = the number of
 /// normal modes), generalized-α ρ∞ = 0.8, fourth-order stiffening — the
 /// method family `ffr-ga0.8-consistent-4th-modal16`, beside the nodal
 /// bodies of the same scene. Other scenes have none.
 pub fn modal_cases(scene: Scene, full: bool) -> Vec<Case> {
     let mut cases = Vec::new();
-    if !matches!(scene, Scene::SpinUp4 | Scene::SpinUp10) {
-        return cases;
-    }
     let m = Method {
         body: BodyModel::Modal,
         ..Method::new(Scheme::Alpha(0.8), FourthOrder)
     };
-    if full {
-        add(&mut cases, scene, m, &[2, 4, 8], &[1e-2, 5e-3, 2e-3, 1e-3]);
-    } else {
-        add(&mut cases, scene, m, &[2, 4], &[1e-2]);
+    let steps = [1e-2, 5e-3, 2e-3, 1e-3];
+    match (scene, full) {
+        (Scene::SpinUp4 | Scene::SpinUp10, true) => add(&mut cases, scene, m, &[2, 4, 8], &steps),
+        (Scene::SpinUp4 | Scene::SpinUp10, false) => add(&mut cases, scene, m, &[2, 4], &[1e-2]),
+        (Scene::SpinUp3d, true) => add(&mut cases, scene, m, &[4, 8], &steps),
+        (Scene::SpinUp3d, false) => add(&mut cases, scene, m, &[4], &[1e-2]),
+        _ => {}
     }
     cases
 }
@@ -510,6 +560,7 @@ impl Grid {
         for scene in Scene::ALL {
             match scene {
                 Scene::SpinUp4 | Scene::SpinUp10 => spin_up(&mut cases, scene, full),
+                Scene::SpinUp3d => spin_up_3d(&mut cases, full),
                 Scene::SliderCrank => slider_crank(&mut cases, full),
                 Scene::Pendulum => pendulum(&mut cases, full),
                 Scene::FreeFloating => free_floating(&mut cases, full),

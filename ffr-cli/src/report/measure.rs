@@ -133,6 +133,7 @@ pub fn run_once(case: &Case) -> Result<Run, Failure> {
     let r = match case.scene {
         Scene::SpinUp4 => run_spin_up(case, 4.0),
         Scene::SpinUp10 => run_spin_up(case, 10.0),
+        Scene::SpinUp3d => run_spin_up(case, 4.0),
         Scene::SliderCrank => run_slider_crank(case),
         Scene::Pendulum => run_pendulum(case),
         Scene::FreeFloating => run_free_floating(case),
@@ -171,25 +172,47 @@ fn not_body(case: &Case) -> Result<(), Failure> {
     }
     if case.method.general && !matches!(case.scene, Scene::SpinUp4 | Scene::SpinUp10) {
         return Err(Failure::new(
-            "the general-vs-specialized choice applies to the spin-up only",
+            "the general-vs-specialized choice applies to the planar spin-ups only",
             None,
         ));
     }
     Ok(())
 }
 
-/// The geometrically exact reference of the spin-up at `omega`, parsed once.
-fn reference(omega: f64) -> Option<&'static crate::reference::Reference> {
+/// The geometrically exact reference of a spin-up scene, parsed once.
+fn reference(scene: Scene) -> Option<&'static crate::reference::Reference> {
     static R4: OnceLock<Option<crate::reference::Reference>> = OnceLock::new();
     static R10: OnceLock<Option<crate::reference::Reference>> = OnceLock::new();
-    let cell = if omega == 4.0 { &R4 } else { &R10 };
-    cell.get_or_init(|| crate::reference::spin_up(omega))
-        .as_ref()
+    static R3D: OnceLock<Option<crate::reference::Reference>> = OnceLock::new();
+    match scene {
+        Scene::SpinUp4 => R4.get_or_init(|| crate::reference::spin_up(4.0)),
+        Scene::SpinUp10 => R10.get_or_init(|| crate::reference::spin_up(10.0)),
+        Scene::SpinUp3d => R3D.get_or_init(|| Some(crate::reference::spin_up_gravity())),
+        _ => return None,
+    }
+    .as_ref()
+}
+
+/// Gravity along the spin axis in [`Scene::SpinUp3d`] (m/s², along −z).
+pub const SPIN_UP_3D_GRAVITY: f64 = 9.81;
+
+/// The spatial spin-up's beam: the KRB data with the torsion data of the
+/// thin tube of the same `A` and `I` (as `scenes/spin_up_gravity.toml` and
+/// the Exudyn reference; `bench/reference/README.md`).
+pub fn spin_up_3d_params() -> ffr::runtime::spec::Params {
+    ffr::runtime::spec::Params {
+        g: 2.5922e10,
+        j: 1.64378e-8,
+        ..spin_up::KRB
+    }
 }
 
 /// Spin-up: error of the transverse tip history in the hub frame against
 /// the Exudyn reference, `max_k |y − y_ref| / max_k |y_ref|` over the run's
-/// step times in `[0, 20 s]` (every step is an output time).
+/// step times in `[0, 20 s]` (every step is an output time). In space
+/// ([`Scene::SpinUp3d`]) the larger of that error for the tip's two
+/// transverse components, `tip_v` (hub y, in the rotation plane) and
+/// `tip_w` (hub z, along the spin axis), each against its own reference peak.
 fn run_spin_up(case: &Case, omega: f64) -> Result<Run, Failure> {
     if !matches!(case.method.body, BodyModel::Beam | BodyModel::Modal) {
         return Err(Failure::new(
@@ -198,10 +221,22 @@ fn run_spin_up(case: &Case, omega: f64) -> Result<Run, Failure> {
         ));
     }
     let t_end = case.scene.t_end();
-    let reference = reference(omega)
-        .ok_or_else(|| Failure::new(format!("no reference history for ω_s = {omega}"), None))?;
+    let spatial = case.scene == Scene::SpinUp3d;
+    let reference = reference(case.scene)
+        .ok_or_else(|| Failure::new(format!("no reference history for {}", case.scene), None))?;
     let m = &case.method;
+    if spatial && m.general {
+        return Err(Failure::new(
+            "the general-vs-specialized choice applies to the planar spin-ups only",
+            None,
+        ));
+    }
     let mut cfg = spin_up::SpinUp::new(omega);
+    if spatial {
+        cfg.spatial = true;
+        cfg.gravity = SPIN_UP_3D_GRAVITY;
+        cfg.params = spin_up_3d_params();
+    }
     cfg.t_end = t_end;
     cfg.dt = case.dt;
     cfg.elements = case.elements;
@@ -223,9 +258,21 @@ fn run_spin_up(case: &Case, omega: f64) -> Result<Run, Failure> {
     }
     let last = r.t.last().copied().unwrap_or(0.0);
     reached(last, t_end, case.dt)?;
-    let (error, _) = reference
-        .error("tip_transverse", &r.t, &r.tip_transverse, t_end)
-        .ok_or_else(|| Failure::new("the run's times are outside the reference's", None))?;
+    let outside = || Failure::new("the run's times are outside the reference's", None);
+    let error = if spatial {
+        let (ev, _) = reference
+            .error("tip_v", &r.t, &r.tip_transverse, t_end)
+            .ok_or_else(outside)?;
+        let (ew, _) = reference
+            .error("tip_w", &r.t, &r.tip_lateral, t_end)
+            .ok_or_else(outside)?;
+        ev.max(ew)
+    } else {
+        reference
+            .error("tip_transverse", &r.t, &r.tip_transverse, t_end)
+            .ok_or_else(outside)?
+            .0
+    };
     Ok(Run {
         cpu_s: r.cpu,
         error,

@@ -46,7 +46,7 @@ pub struct ReportArgs {
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..=100))]
     pub reps: Option<u16>,
     /// Only these scenes (comma-separated: spin-up-4, spin-up-10,
-    /// slider-crank, pendulum, free-floating).
+    /// spin-up-3d, slider-crank, pendulum, free-floating).
     #[arg(long, value_delimiter = ',')]
     pub scenes: Vec<String>,
 }
