@@ -620,13 +620,63 @@ pub fn generate_scene(
             ))
         })
         .collect::<Result<Vec<_>, Error>>()?;
+    let modal = scene_modal_bodies(&spec, &dir, runtime_path)?;
     let scene = SceneKernels {
         origin,
         text: &text,
         spec: &spec,
         bodies,
+        modal,
     };
     emit_scene_file(&scene, type_name, runtime_path)
+}
+
+/// The modal bodies of a scene reduced now, as `ModalConsts` expressions
+/// (equal elements of one section, no attached masses: the others are
+/// reduced when the scene is built, as `ffr run` does). A reduction that
+/// fails is an error naming the body and where `modes` is written.
+#[cfg(all(feature = "scene", feature = "modal"))]
+fn scene_modal_bodies(
+    spec: &ffr_spec::scene::SceneSpec,
+    dir: &Path,
+    runtime_path: &str,
+) -> Result<Vec<(String, String)>, Error> {
+    let mut out = Vec::new();
+    for b in &spec.bodies {
+        let ffr_spec::scene::BodyKind::Flexible(f) = &b.kind else {
+            continue;
+        };
+        let Some((settings, at)) = &f.modal else {
+            continue;
+        };
+        if f.nodes.is_some() || f.sections.is_some() || !f.masses.is_empty() {
+            continue;
+        }
+        let bad = |e: String| Error::Body(format!("{at}: body `{}`: {e}", f.name));
+        let shape = resolve_shape(&f.shape, dir)?;
+        let body =
+            BodySpec::new(shape, f.elements, f.reference)?.with_formalism(f.options.formalism);
+        let model =
+            crate::modal::ModalModel::of_body(&body, &f.params, settings, f.options.stiffening)
+                .map_err(|e| bad(e.to_string()))?;
+        let description = crate::emit::modal_description(&model, &body, &f.params);
+        out.push((
+            f.name.clone(),
+            crate::emit::modal_consts(&model, &description, runtime_path)?,
+        ));
+    }
+    Ok(out)
+}
+
+/// Without the `modal` feature a compiled scene's modal bodies are reduced
+/// when it is built.
+#[cfg(all(feature = "scene", not(feature = "modal")))]
+fn scene_modal_bodies(
+    _: &ffr_spec::scene::SceneSpec,
+    _: &Path,
+    _: &str,
+) -> Result<Vec<(String, String)>, Error> {
+    Ok(Vec::new())
 }
 
 /// The stations of a body's section table ([`crate::sections::body_stations`]).

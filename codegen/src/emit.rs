@@ -795,6 +795,9 @@ pub struct SceneKernels<'a> {
     pub spec: &'a ffr_spec::scene::SceneSpec,
     /// Each flexible body's name and kernel set, in body-name order.
     pub bodies: Vec<(String, KernelSet)>,
+    /// The modal bodies reduced when the scene is compiled: name and
+    /// `ModalConsts` expression ([`modal_consts`]).
+    pub modal: Vec<(String, String)>,
 }
 
 /// The compiled form of a scene file: the specialized kernels of each of its
@@ -819,6 +822,7 @@ pub fn emit_scene_file(
     let mut items = String::new();
     let mut titled = Vec::new();
     let mut arms = String::new();
+    let mut modal_arms = String::new();
     for (name, set) in &scene.bodies {
         let body_type = crate::scene::body_type_name(name);
         let kt = format!("{type_name}{body_type}Kernels");
@@ -832,7 +836,27 @@ pub fn emit_scene_file(
             "{name:?} => ::core::result::Result::Ok((::std::boxed::Box::new({kt}), \"compiled (scene)\")),"
         )
         .unwrap();
+        if let Some((_, consts)) = scene.modal.iter().find(|(n, _)| n == name) {
+            writeln!(
+                items,
+                "impl {kt} {{\n#[doc = \" Body `{}` reduced when the scene was compiled: the basis and the projected invariants.\"]\n#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]\npub const MODAL: {runtime_path}::ModalConsts = {consts};\n}}",
+                comment_text(name).replace('"', "\\\"")
+            )
+            .unwrap();
+            writeln!(
+                modal_arms,
+                "{name:?} => ::core::option::Option::Some(&{kt}::MODAL),"
+            )
+            .unwrap();
+        }
     }
+    let modal_fn = if modal_arms.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "\nfn modal(&self, spec: &{root}::scene::FlexSpec) -> ::core::option::Option<&'static {runtime_path}::ModalConsts> {{\nmatch spec.name.as_str() {{\n{modal_arms}_ => ::core::option::Option::None,\n}}\n}}"
+        )
+    };
     let n = scene.bodies.len();
     let what = format!(
         "Scene `{}` compiled as `{type_name}` (fnv1a {:016x}): {n} flexible bod{}.",
@@ -847,7 +871,7 @@ pub fn emit_scene_file(
     .unwrap();
     writeln!(
         items,
-        "impl {root}::scene::KernelProvider for {type_name}Kernels {{\nfn kernels(&self, spec: &{root}::scene::FlexSpec) -> ::core::result::Result<(::std::boxed::Box<dyn {runtime_path}::ElementKernels>, &'static str), {root}::Error> {{\nmatch spec.name.as_str() {{\n{arms}other => ::core::result::Result::Err({root}::Error::Invalid(::std::format!(\"no compiled kernels for body `{{other}}`\"))),\n}}\n}}\n}}"
+        "impl {root}::scene::KernelProvider for {type_name}Kernels {{\nfn kernels(&self, spec: &{root}::scene::FlexSpec) -> ::core::result::Result<(::std::boxed::Box<dyn {runtime_path}::ElementKernels>, &'static str), {root}::Error> {{\nmatch spec.name.as_str() {{\n{arms}other => ::core::result::Result::Err({root}::Error::Invalid(::std::format!(\"no compiled kernels for body `{{other}}`\"))),\n}}\n}}{modal_fn}\n}}"
     )
     .unwrap();
     writeln!(

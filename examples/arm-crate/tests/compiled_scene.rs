@@ -48,7 +48,8 @@ fn compiled_scene_runs_bit_for_bit_like_ffr_run() {
 
 /// Every scene shipped with ffr, compiled by `build.rs`: its generated data
 /// is the scene the file resolves to, its bodies run the scene's own
-/// kernels, and its first 0.2 s are bit for bit those of `ffr run` (which
+/// kernels (a modal body its reduction made when compiled), and its first
+/// 0.2 s are bit for bit those of `ffr run` (which
 /// runs the 5-MW blade's varying sections on tapes: the compiled varying
 /// kernels give the tape's numbers exactly).
 #[test]
@@ -122,6 +123,17 @@ fn built_in_scenes_compile_to_their_files() {
             "{origin}: {:?}",
             compiled.kernels
         );
+        // A modal body's reduction is baked into the compiled scene.
+        if origin.ends_with("spin_up_modal.toml") {
+            assert!(
+                compiled
+                    .kernels
+                    .iter()
+                    .any(|(_, k)| k.contains("reduced when compiled")),
+                "{:?}",
+                compiled.kernels
+            );
+        }
         let mut loaded = ffr::scene::from_str(
             &text,
             origin,

@@ -182,7 +182,13 @@ fn flexible(
             Box::new(kb)
         }
         Some((settings, modes_at)) => {
-            let mb = match provider.modal(f) {
+            let baked = provider.modal(f);
+            let when = if baked.is_some() {
+                "reduced when compiled"
+            } else {
+                "reduced at load"
+            };
+            let mb = match baked {
                 // Reduced when the scene was compiled.
                 Some(consts) => consts
                     .data()
@@ -195,7 +201,7 @@ fn flexible(
             parts.kernels.push((
                 name.clone(),
                 format!(
-                    "modal, {} modes ({path} full body for markers)",
+                    "modal, {} modes, {when} ({path} full body for markers)",
                     mb.layout().nf
                 ),
             ));
