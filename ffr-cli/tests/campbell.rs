@@ -136,6 +136,23 @@ fn classical_with(
 /// stretch are below 10⁻⁶) clamped to a rigid hub of radius `delta`
 /// turning about global z.
 fn scene(elements: usize, stiffening: &str, delta: f64) -> ffr::scene::SceneSpec {
+    hub_scene(
+        elements,
+        stiffening,
+        delta,
+        "params = { length = 1.0, rho = 1.0, area = 1.0, iy = 1e-8, iz = 1e-8, e = 1e8, g = 4e7, j = 2e-8 }",
+    )
+}
+
+/// A beam3 cantilever of `elements` elements with the section `section`
+/// (a `params` or `sections` line) and stiffening model `stiffening`,
+/// clamped to a rigid hub of radius `delta` turning about global z.
+fn hub_scene(
+    elements: usize,
+    stiffening: &str,
+    delta: f64,
+    section: &str,
+) -> ffr::scene::SceneSpec {
     let text = format!(
         r#"dimension = 3
 t_end = 1.0
@@ -149,7 +166,7 @@ shape = "beam3"
 elements = {elements}
 reference = "clamped"
 stiffening = "{stiffening}"
-params = {{ length = 1.0, rho = 1.0, area = 1.0, iy = 1e-8, iz = 1e-8, e = 1e8, g = 4e7, j = 2e-8 }}
+{section}
 position = [{delta}, 0.0, 0.0]
 [[joints]]
 kind = "revolute"
@@ -692,35 +709,8 @@ fn slender_scene(elements: usize, ea: f64) -> ffr::scene::SceneSpec {
     let row = |x: f64| {
         format!("{{ x = {x:?}, mass = 1.0, ea = {ea:?}, ei_y = 1.0, ei_z = 1.0, gj = 1.0, rho_iy = 0.0, rho_iz = 0.0, rho_j = 1e-4 }}")
     };
-    let text = format!(
-        r#"dimension = 3
-t_end = 1.0
-dt = 1e-3
-[bodies.hub]
-mass = 1.0
-inertia = [1.0, 1.0, 1.0]
-position = [0.0, 0.0, 0.0]
-[bodies.beam]
-shape = "beam3"
-elements = {elements}
-reference = "clamped"
-stiffening = "fourth-order"
-sections = [{}, {}]
-position = [0.0, 0.0, 0.0]
-[[joints]]
-kind = "revolute"
-a = "ground@[0.0, 0.0, 0.0]"
-b = "hub"
-drive = {{ angle = "constant-rate", omega = 0.0 }}
-[[joints]]
-kind = "fixed"
-a = "hub@[0.0, 0.0, 0.0]"
-b = "beam"
-"#,
-        row(0.0),
-        row(1.0)
-    );
-    ffr::codegen::scene::resolve_str(&text, "slender.toml", Path::new(".")).unwrap()
+    let section = format!("sections = [{}, {}]", row(0.0), row(1.0));
+    hub_scene(elements, "fourth-order", 0.0, &section)
 }
 
 /// The first flap and lag frequencies of the classical *linear* theory of a rotating
