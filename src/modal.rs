@@ -51,9 +51,10 @@ fn collect_params(p: &Poly, out: &mut BTreeSet<Param>) {
     }
 }
 
-/// The parameters the body's invariants depend on.
+/// The parameters the body's invariants depend on (the length always: the
+/// invariants in the element length `l = L/N` do not name it).
 fn params_used(e: &ExactInvariants) -> Vec<Param> {
-    let mut out = BTreeSet::new();
+    let mut out = BTreeSet::from([Param::Length]);
     collect_params(&e.mass, &mut out);
     for i in 0..e.nf {
         for j in 0..e.nf {
@@ -93,9 +94,11 @@ impl ReducibleBody {
         check_params(&p, &[])?;
         let shape = Shape::resolve(shape, None)?;
         let spec = BodySpec::new(shape, elements, reference)?.with_formalism(formalism);
-        let exact = spec.exact_invariants()?;
+        // In the element length `l = L/N`: evaluated at it exactly, the same
+        // bits as the invariants in `L`, without rescaling every entry.
+        let exact = spec.exact_invariants_in_element_length()?;
         check_params(&p, &params_used(&exact))?;
-        let invariants = modal::Invariants::from_exact(&exact, &p)?;
+        let invariants = modal::Invariants::from_exact_elements(&exact, &p, elements)?;
         let dofs: Vec<String> = spec.dofs().iter().map(|d| d.to_string()).collect();
         check_invariants(&to_runtime(&invariants), &dofs, formalism)?;
         let available = modal::elastic_modes(&spec, p.length);

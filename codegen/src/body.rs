@@ -633,6 +633,16 @@ impl BodySpec {
     /// parameters: the element invariants at `x₀ = e·l` assembled over the
     /// elements, then `l = L/N`.
     pub fn exact_invariants(&self) -> Result<ExactInvariants, Error> {
+        Ok(self
+            .exact_invariants_in_element_length()?
+            .map(|f| self.to_body_length(f)))
+    }
+
+    /// [`BodySpec::exact_invariants`] as polynomials in the element length
+    /// `l` (`Param::ElemLength`) instead of `L`: the same values at `l = L/N`
+    /// without rescaling every entry (evaluate them with
+    /// `modal::Invariants::from_exact_elements`).
+    pub fn exact_invariants_in_element_length(&self) -> Result<ExactInvariants, Error> {
         let elem = element_invariants(&self.shape, self.formalism)?;
         let nf = self.nf();
         let mut inv = ExactInvariants::zeros(self.shape.dimension, nf);
@@ -670,7 +680,7 @@ impl BodySpec {
                 }
             }
         }
-        Ok(inv.map(|f| self.to_body_length(f)))
+        Ok(inv)
     }
 
     /// Replace the element length `l` by `L / N`.

@@ -590,3 +590,44 @@ fn projected_energy_matches_direct_evaluation() {
         .contains("q9"));
     let _ = modal::eval_poly(&Poly::int(1), &krb()).unwrap();
 }
+
+/// The invariants in the element length evaluated at `l = L/N`
+/// (`from_exact_elements`, what reductions use) are the invariants in `L`
+/// evaluated at `L` (`from_exact`) to the last bit: both are the exact value
+/// rounded once.
+#[test]
+fn invariants_in_the_element_length_are_the_same_bits() {
+    use ffr_codegen::Formalism;
+    let bits = |m: &DMatrix<f64>| m.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    for shape in ["beam2", "beam3"] {
+        for n in [1, 3, 7] {
+            for r in [Reference::Clamped, Reference::Free] {
+                for f in [Formalism::Consistent, Formalism::Lumped] {
+                    let s = spec(shape, n, r).with_formalism(f);
+                    for p in [krb(), steel()] {
+                        let a = Invariants::from_exact(&exact(&s), &p).unwrap();
+                        let b = Invariants::from_exact_elements(
+                            &s.exact_invariants_in_element_length().unwrap(),
+                            &p,
+                            n,
+                        )
+                        .unwrap();
+                        let what = format!("{shape} {n} {r:?} {f:?}");
+                        assert_eq!(a.mass.to_bits(), b.mass.to_bits(), "{what}");
+                        assert_eq!(a.s_t0, b.s_t0, "{what}");
+                        assert_eq!(a.theta, b.theta, "{what}");
+                        assert_eq!(bits(&a.s_bar), bits(&b.s_bar), "{what}");
+                        assert_eq!(bits(&a.m_ff), bits(&b.m_ff), "{what}");
+                        assert_eq!(bits(&a.k_ff), bits(&b.k_ff), "{what}");
+                        for k in 0..3 {
+                            for l in 0..3 {
+                                assert_eq!(bits(&a.s_kl[k][l]), bits(&b.s_kl[k][l]), "{what}");
+                                assert_eq!(a.i_kl[k][l], b.i_kl[k][l], "{what}");
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

@@ -45,6 +45,9 @@ pub struct Invariants {
 /// Exact values of the parameters and of the parameter monomials met so far.
 struct ExactParams {
     values: [Rational; 8],
+    /// The element length `l = L/N` of a body of `N` equal elements, for
+    /// polynomials in `l` (`None`: they must not contain it).
+    elem_length: Option<Rational>,
     cache: BTreeMap<Monomial, Rational>,
 }
 
@@ -61,8 +64,23 @@ impl ExactParams {
         }
         Ok(Self {
             values,
+            elem_length: None,
             cache: BTreeMap::new(),
         })
+    }
+
+    /// With the element length `l = L/N` of `elements` equal elements.
+    fn with_elements(p: &Params, elements: usize) -> Result<Self, ModalError> {
+        let mut x = Self::new(p)?;
+        let n = i64::try_from(elements)
+            .ok()
+            .filter(|&n| n > 0)
+            .ok_or_else(|| ModalError::Input(format!("{elements} elements")))?;
+        x.elem_length = Some(
+            x.values[Param::Length.field_index().expect("a field")].clone()
+                / Rational::from_integer(n.into()),
+        );
+        Ok(x)
     }
 
     /// The exact value of a monomial in the parameters; `None` for a symbol
@@ -76,16 +94,19 @@ impl ExactParams {
             let Sym::Param(param) = s else {
                 return Ok(None);
             };
-            let Some(i) = param.field_index() else {
-                return Err(ModalError::Eval {
-                    poly: m.to_string(),
-                    reason: format!(
-                        "`{}` is the element length, which a body's invariants do not contain",
-                        param.field()
-                    ),
-                });
+            let base = match (param.field_index(), &self.elem_length) {
+                (Some(i), _) => &self.values[i],
+                (None, Some(l)) if param == Param::ElemLength => l,
+                _ => {
+                    return Err(ModalError::Eval {
+                        poly: m.to_string(),
+                        reason: format!(
+                            "`{}` is the element length, which a body's invariants do not contain",
+                            param.field()
+                        ),
+                    })
+                }
             };
-            let base = &self.values[i];
             if e < 0 && base.is_zero() {
                 return Err(ModalError::Eval {
                     poly: m.to_string(),
@@ -179,7 +200,22 @@ impl Invariants {
     /// `S̄_kk`, `Θ`) are evaluated on one triangle and mirrored; `S̄_lk` is
     /// set to `S̄_klᵀ` (both hold exactly for the exact invariants).
     pub fn from_exact(exact: &ExactInvariants, p: &Params) -> Result<Self, ModalError> {
-        let mut x = ExactParams::new(p)?;
+        Self::evaluate(exact, ExactParams::new(p)?)
+    }
+
+    /// [`Invariants::from_exact`] of invariants in the element length
+    /// (`BodySpec::exact_invariants_in_element_length`) of a body of
+    /// `elements` equal elements: evaluated at `l = L/N` exactly, so the
+    /// same bits as `from_exact` of `BodySpec::exact_invariants`.
+    pub fn from_exact_elements(
+        exact: &ExactInvariants,
+        p: &Params,
+        elements: usize,
+    ) -> Result<Self, ModalError> {
+        Self::evaluate(exact, ExactParams::with_elements(p, elements)?)
+    }
+
+    fn evaluate(exact: &ExactInvariants, mut x: ExactParams) -> Result<Self, ModalError> {
         let nf = exact.nf;
         let mass = x.eval_f64(&exact.mass)?;
         let mut s_t0 = Vector3::zeros();

@@ -87,7 +87,7 @@ impl ModalModel {
     }
 
     /// The body `spec` of one section at parameters `p` (its exact
-    /// invariants, correctly rounded: [`Invariants::from_exact`]) reduced
+    /// invariants, correctly rounded: [`Invariants::from_exact_elements`]) reduced
     /// as `settings` say: modal truncation to `settings.modes` modes, or
     /// Craig–Bampton on `settings.boundary` with that many fixed-interface
     /// modes; then [`ModalModel::new`].
@@ -98,9 +98,9 @@ impl ModalModel {
         stiffening: Stiffening,
     ) -> Result<Self, ModalError> {
         let exact = spec
-            .exact_invariants()
+            .exact_invariants_in_element_length()
             .map_err(|e| ModalError::Input(e.to_string()))?;
-        let inv = Invariants::from_exact(&exact, p)?;
+        let inv = Invariants::from_exact_elements(&exact, p, spec.elements)?;
         let reduction = if settings.boundary.is_empty() {
             Reduction::Modal {
                 modes: settings.modes,
