@@ -155,10 +155,11 @@ pub enum Command {
         /// projected invariants baked in; docs/modal.md).
         #[arg(long, requires = "elements", conflicts_with = "scene")]
         modes: Option<usize>,
-        /// With --modes: add the static modes (inertia loads and, with
-        /// stiffening, the modal derivatives).
+        /// With --modes: leave out the static modes (by default they are
+        /// added, as in a scene file: inertia loads and, with stiffening, the
+        /// modal derivatives).
         #[arg(long, requires = "modes")]
-        static_modes: bool,
+        no_static_modes: bool,
         /// With --modes: Craig–Bampton with these boundary nodes
         /// (comma-separated) instead of modal truncation.
         #[arg(long, value_delimiter = ',', requires = "modes")]
@@ -223,7 +224,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             scene,
             type_name,
             modes,
-            static_modes,
+            no_static_modes,
             boundary,
             params,
         }) => {
@@ -236,7 +237,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                     let settings = ffr::modal::ModalSettings {
                         modes: modes.unwrap_or_default(),
                         boundary,
-                        static_modes,
+                        static_modes: !no_static_modes,
                         damping: Vec::new(),
                     };
                     emit::modal_body(
