@@ -25,6 +25,19 @@ const WRIGHT_FLAP1: [f64; 13] = [
     12.1843, 13.1702,
 ];
 
+/// 4-point Gauss–Legendre on [0, 1] as (point, weight): exact for the
+/// element integrands here (`T N′N′`, degree 6).
+fn gauss4() -> [(f64, f64); 4] {
+    let (a, b) = (0.339_981_043_584_856_3, 0.861_136_311_594_052_6);
+    let (wa, wb) = (0.652_145_154_862_546_1, 0.347_854_845_137_453_9);
+    [
+        (0.5 - 0.5 * b, 0.5 * wb),
+        (0.5 - 0.5 * a, 0.5 * wa),
+        (0.5 + 0.5 * a, 0.5 * wa),
+        (0.5 + 0.5 * b, 0.5 * wb),
+    ]
+}
+
 /// The classical linear model of a rotating uniform cantilever (flap),
 /// written independently of ffr: Hermite cubic elements for
 /// `EI w'''' − (T w')' + ρA ẅ = 0` with the centrifugal tension
@@ -73,15 +86,7 @@ fn classical_with(
         [54.0, 13.0 * h, 156.0, -22.0 * h],
         [-13.0 * h, -3.0 * h * h, -22.0 * h, 4.0 * h * h],
     ];
-    // 4-point Gauss–Legendre on [0, 1] (exact for T N'N', degree 6).
-    let (a, b) = (0.339_981_043_584_856_3, 0.861_136_311_594_052_6);
-    let (wa, wb) = (0.652_145_154_862_546_1, 0.347_854_845_137_453_9);
-    let gauss = [
-        (0.5 - 0.5 * b, 0.5 * wb),
-        (0.5 - 0.5 * a, 0.5 * wa),
-        (0.5 + 0.5 * a, 0.5 * wa),
-        (0.5 + 0.5 * b, 0.5 * wb),
-    ];
+    let gauss = gauss4();
     for e in 0..elements {
         let dofs: [isize; 4] = std::array::from_fn(|i| 2 * e as isize + i as isize - 2);
         let mut ge = [[0.0; 4]; 4];
@@ -730,14 +735,7 @@ fn classical_coupled(mu: f64, ea: f64, elements: usize) -> (f64, f64) {
         DMatrix::zeros(n, n),
         DMatrix::zeros(n, n),
     );
-    let (a, b) = (0.339_981_043_584_856_3, 0.861_136_311_594_052_6);
-    let (wa, wb) = (0.652_145_154_862_546_1, 0.347_854_845_137_453_9);
-    let gauss = [
-        (0.5 - 0.5 * b, 0.5 * wb),
-        (0.5 - 0.5 * a, 0.5 * wa),
-        (0.5 + 0.5 * a, 0.5 * wa),
-        (0.5 + 0.5 * b, 0.5 * wb),
-    ];
+    let gauss = gauss4();
     let hermite = |xi: f64| {
         [
             1.0 - 3.0 * xi * xi + 2.0 * xi * xi * xi,
