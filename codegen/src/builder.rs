@@ -620,7 +620,7 @@ pub fn generate_scene(
             ))
         })
         .collect::<Result<Vec<_>, Error>>()?;
-    let modal = scene_modal_bodies(&spec, &dir, runtime_path)?;
+    let modal = scene_modal_bodies(&spec, runtime_path)?;
     let scene = SceneKernels {
         origin,
         text: &text,
@@ -638,7 +638,6 @@ pub fn generate_scene(
 #[cfg(all(feature = "scene", feature = "modal"))]
 fn scene_modal_bodies(
     spec: &ffr_spec::scene::SceneSpec,
-    dir: &Path,
     runtime_path: &str,
 ) -> Result<Vec<(String, String)>, Error> {
     let mut out = Vec::new();
@@ -653,7 +652,9 @@ fn scene_modal_bodies(
             continue;
         }
         let bad = |e: String| Error::Body(format!("{at}: body `{}`: {e}", f.name));
-        let shape = resolve_shape(&f.shape, dir)?;
+        // The scene resolved the shape's path against its directory already;
+        // read it as the runtime's reduction does (`ReducibleBody::from_parts`).
+        let shape = Shape::resolve(&f.shape, None)?;
         let body =
             BodySpec::new(shape, f.elements, f.reference)?.with_formalism(f.options.formalism);
         let model =
@@ -673,7 +674,6 @@ fn scene_modal_bodies(
 #[cfg(all(feature = "scene", not(feature = "modal")))]
 fn scene_modal_bodies(
     _: &ffr_spec::scene::SceneSpec,
-    _: &Path,
     _: &str,
 ) -> Result<Vec<(String, String)>, Error> {
     Ok(Vec::new())

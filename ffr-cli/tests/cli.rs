@@ -936,3 +936,74 @@ fn a_hostile_description_is_escaped_on_the_terminal_and_in_the_svg() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `ffr emit --scene` on a relative path bakes a modal body whose shape is a
+/// file beside the scene: the scene resolves the shape's path once, and the
+/// reduction made when compiling reads that file (not the path joined to the
+/// scene's directory again).
+#[test]
+fn emit_scene_bakes_a_modal_body_of_a_shape_file() {
+    let dir = temp_dir("modal-scene");
+    std::fs::create_dir_all(dir.join("scenes/shapes")).unwrap();
+    std::fs::copy(
+        "../codegen/shapes/beam2.toml",
+        dir.join("scenes/shapes/beam2.toml"),
+    )
+    .unwrap();
+    let scene = r#"dimension = 2
+t_end = 0.1
+dt = 0.01
+[bodies.beam]
+shape = "shapes/beam2.toml"
+elements = 4
+reference = "clamped"
+modes = 2
+params = { length = 8.0, rho = 2766.67, area = 7.2968e-5, iz = 8.2189e-9, e = 6.8952e10 }
+position = [0.0, 0.0]
+angle = 0.0
+[[joints]]
+kind = "revolute"
+a = "ground@[0.0, 0.0]"
+b = "beam"
+drive = { angle = "spin-up", omega = 4.0, ramp = 15.0 }
+"#;
+    std::fs::write(dir.join("scenes/modal.toml"), scene).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_ffr"))
+        .args(["emit", "--scene", "scenes/modal.toml"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(out.status.success(), "{stderr}");
+    assert!(stdout.contains("pub const MODAL: ::ffr::runtime::ModalConsts"));
+    // The baked description names the body as the run-time reduction does.
+    let out = Command::new(env!("CARGO_BIN_EXE_ffr"))
+        .args([
+            "modes",
+            "--scene",
+            "scenes/modal.toml",
+            "--body",
+            "beam",
+            "--json",
+        ])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let js: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let body = js["body"].as_str().unwrap();
+    assert!(body.contains("shapes/beam2.toml"), "{body}");
+    // (No quote or backslash in it: its literal is the text itself.)
+    assert!(
+        stdout.contains(&format!("description: \"{body} reduced to ")),
+        "{body}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
