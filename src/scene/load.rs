@@ -8,7 +8,7 @@ use crate::scene::provider::{DefaultKernels, KernelProvider};
 use crate::SceneError;
 use std::path::{Path, PathBuf};
 
-fn scene_error(e: crate::codegen::Error) -> SceneError {
+pub(crate) fn scene_error(e: crate::codegen::Error) -> SceneError {
     match e {
         crate::codegen::Error::Scene { location, message } => SceneError {
             location: Some(location),

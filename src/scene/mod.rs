@@ -11,9 +11,13 @@
 //! - [`provider`]: where flexible bodies get their kernels;
 //! - [`run`](mod@run): the run and its recorded columns;
 //! - [`linear`]: linear models (`A, B, C, D`) and Campbell diagrams;
+//! - `edit` (feature `scene-files`): scene variants by dotted keys
+//!   (`bodies.beam.params.e`), loaded with the loader's located errors;
 //! - `emit` (feature `scene-files`): a scene's specialized kernels as Rust.
 
 pub mod build;
+#[cfg(feature = "scene-files")]
+pub mod edit;
 #[cfg(feature = "scene-files")]
 pub mod emit;
 pub mod linear;
@@ -27,6 +31,8 @@ pub use crate::error::SceneError;
 pub use crate::runtime::spec::scene as spec;
 pub use crate::runtime::spec::scene::{FlexSpec, SceneSpec};
 pub use build::build;
+#[cfg(feature = "scene-files")]
+pub use edit::{SceneText, SceneValue};
 #[cfg(feature = "scene-files")]
 pub use load::{from_str, load, load_with};
 pub use model::{EnergyPart, Output, OutputKind, Scene, MAX_RECORDED_VALUES};

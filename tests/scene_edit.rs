@@ -1,0 +1,150 @@
+//! `ffr::scene::SceneText`: scene variants by dotted keys, checked against
+//! the scene the loader resolves and against the same file edited by hand.
+
+use ffr::scene::spec::{BodyKind, ProfileSpec};
+use ffr::scene::{SceneText, SceneValue};
+use std::path::Path;
+
+fn spin_up() -> SceneText {
+    SceneText::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/spin_up.toml")).unwrap()
+}
+
+fn flex(spec: &ffr::scene::SceneSpec) -> &ffr::scene::FlexSpec {
+    match &spec.bodies[0].kind {
+        BodyKind::Flexible(f) => f,
+        other => panic!("not flexible: {other:?}"),
+    }
+}
+
+#[test]
+fn every_key_kind_reaches_the_resolved_scene() {
+    let mut s = spin_up();
+    let before = s.text();
+    s.set("bodies.beam.params.e", 7e10.into()).unwrap(); // in an inline table
+    s.set("joints.0.drive.omega", 2.5.into()).unwrap(); // an array of tables, by index
+    s.set("bodies.beam.elements", 4.into()).unwrap(); // a table's integer
+    s.set("t_end", 3.0.into()).unwrap(); // the top level
+    s.set("bodies.beam.position.1", 0.5.into()).unwrap(); // an array element
+    s.set(
+        "bodies.beam.stiffening",
+        SceneValue::Str("second-order".into()),
+    )
+    .unwrap();
+    let spec = s.spec().unwrap();
+    let f = flex(&spec);
+    assert_eq!(f.params.e, 7e10);
+    assert_eq!(f.elements, 4);
+    assert_eq!(spec.t_end, 3.0);
+    assert_eq!(spec.bodies[0].position, [0.0, 0.5, 0.0]);
+    assert!(matches!(
+        spec.joints[0].drive.as_ref().map(|d| d.0),
+        Some(ProfileSpec::SpinUp { omega, .. }) if omega == 2.5
+    ));
+    // The layout is kept: the same lines, and a replaced value in its place.
+    assert_eq!(s.text().lines().count(), before.lines().count());
+    assert_eq!(s.get("bodies.beam.params.e"), Some(SceneValue::Float(7e10)));
+    assert_eq!(s.get("joints.0.drive.omega"), Some(SceneValue::Float(2.5)));
+    assert_eq!(s.overrides().len(), 6);
+}
+
+#[test]
+fn a_set_scene_runs_bit_identically_to_the_file_edited_by_hand() {
+    let mut s = spin_up();
+    s.set("joints.0.drive.omega", 2.0.into()).unwrap();
+    s.set("t_end", 1.0.into()).unwrap();
+    let by_key = ffr::scene::run(&s.load().unwrap()).unwrap();
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/spin_up.toml"))
+            .unwrap()
+            .replace("t_end = 20.0", "t_end = 1.0")
+            .replace("omega = 4.0", "omega = 2.0");
+    let spec_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let by_hand = ffr::scene::run(
+        &ffr::scene::from_str(
+            &text,
+            "spin_up.toml",
+            &spec_dir,
+            &ffr::scene::DefaultKernels,
+        )
+        .unwrap(),
+    )
+    .unwrap();
+    assert_eq!(by_key.columns.len(), by_hand.columns.len());
+    for (a, b) in by_key.columns.iter().zip(&by_hand.columns) {
+        let a: Vec<u64> = a.iter().map(|x| x.to_bits()).collect();
+        let b: Vec<u64> = b.iter().map(|x| x.to_bits()).collect();
+        assert_eq!(a, b);
+    }
+}
+
+#[test]
+fn bad_keys_are_refused_with_the_place_and_what_is_there() {
+    let mut s = spin_up();
+    let msg = |r: Result<(), ffr::SceneError>| r.unwrap_err().to_string();
+    let m = msg(s.set("bodies.beem.params.e", 1.0.into()));
+    assert!(
+        m.contains("spin_up.toml: key `bodies.beem.params.e`"),
+        "{m}"
+    );
+    assert!(
+        m.contains("`bodies` has no `beem`") && m.contains("beam"),
+        "{m}"
+    );
+    let m = msg(s.set("joints.3.drive.omega", 1.0.into()));
+    assert!(m.contains("`joints` has no `3`"), "{m}");
+    let m = msg(s.set("t_end.x", 1.0.into()));
+    assert!(
+        m.contains("`t_end` is a number, not a table or an array"),
+        "{m}"
+    );
+    let m = msg(s.set("bodies..e", 1.0.into()));
+    assert!(m.contains("empty segment"), "{m}");
+    let m = msg(s.set("bodies.beam.position.7", 1.0.into()));
+    assert!(m.contains("an array of 2; `7` is not an index"), "{m}");
+    let m = msg(s.set("joints", 1.0.into()));
+    assert!(m.contains("is an array of tables"), "{m}");
+    let m = msg(s.set("bodies.beam.params.e", f64::NAN.into()));
+    assert!(m.contains("not a finite number"), "{m}");
+    let m = msg(s.set(&"x.".repeat(400), 1.0.into()));
+    assert!(m.contains("longer than 512 bytes"), "{m}");
+    // Nothing was set by the refusals.
+    assert!(s.overrides().is_empty());
+    assert_eq!(
+        s.get("bodies.beam.params.e"),
+        Some(SceneValue::Float(6.8952e10))
+    );
+}
+
+#[test]
+fn bad_values_get_the_loaders_located_message_with_the_keys_set() {
+    let mut s = spin_up();
+    s.set("bodies.beam.elements", 0.into()).unwrap();
+    let e = s.spec().unwrap_err();
+    let at = e.location.clone().expect("located");
+    // `elements = 8` is line 12 of the file; the edit keeps the line.
+    assert!(at.file.ends_with("spin_up.toml") && at.line == 12, "{e}");
+    assert!(
+        e.message.ends_with("(with bodies.beam.elements = 0)"),
+        "{e}"
+    );
+    // An unknown key the file leaves out is refused by the loader, located.
+    let mut s = spin_up();
+    s.set("bodies.beam.paramz", 1.0.into()).unwrap();
+    let e = s.spec().unwrap_err().to_string();
+    assert!(e.contains("paramz"), "{e}");
+    // A value of the wrong type.
+    let mut s = spin_up();
+    s.set("dt", SceneValue::Str("fast".into())).unwrap();
+    let e = s.spec().unwrap_err();
+    assert!(
+        e.location.is_some() && e.to_string().contains("dt = \"fast\""),
+        "{e}"
+    );
+}
+
+#[test]
+fn syntax_errors_are_located() {
+    let e = SceneText::parse("t_end = \n", "x.toml", Path::new(".")).unwrap_err();
+    let at = e.location.expect("located");
+    assert_eq!((at.file.as_str(), at.line), ("x.toml", 1));
+}
