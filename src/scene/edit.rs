@@ -246,7 +246,7 @@ impl SceneText {
                     )))
                 }
                 None => {
-                    t.insert(*last, Item::Value(new.clone()));
+                    t.insert(last, Item::Value(new.clone()));
                 }
             }
             Ok(())
