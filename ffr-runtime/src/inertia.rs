@@ -33,6 +33,49 @@ pub(crate) struct InertiaTerms {
     d_tf: [DMatrix<f64>; 3],
     /// Which frame components a planar scene has (`ā_x, ā_y, α_z, ω_z`).
     frame_live: [bool; 9],
+    /// Row-major copies for the `f_f` rows (row `a` contiguous): `m_ff`,
+    /// `K_ff`, and each non-zero `S̄_kl` (empty when zero).
+    rows: Rows,
+    /// Which `S̄_ab − S̄_ba` are non-zero.
+    d_tf_live: [bool; 3],
+}
+
+/// Row-major copies of the `k × k` matrices `f_f` reads row by row.
+#[derive(Clone, Debug)]
+struct Rows {
+    m_ff: Vec<f64>,
+    k_ff: Vec<f64>,
+    s_kl: [[Vec<f64>; 3]; 3],
+}
+
+/// `m` row-major (row `a` is `[a k .. (a + 1) k]`).
+fn row_major(m: &DMatrix<f64>) -> Vec<f64> {
+    m.transpose().as_slice().to_vec()
+}
+
+/// Row `a` of a row-major `k × k` matrix.
+fn row(m: &[f64], a: usize, k: usize) -> &[f64] {
+    &m[a * k..(a + 1) * k]
+}
+
+/// `a · b` over equal lengths, four partial sums (vectorizes; no branches).
+#[inline]
+pub(crate) fn dot_slices(a: &[f64], b: &[f64]) -> f64 {
+    debug_assert_eq!(a.len(), b.len());
+    let mut acc = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        acc[0] += x[0] * y[0];
+        acc[1] += x[1] * y[1];
+        acc[2] += x[2] * y[2];
+        acc[3] += x[3] * y[3];
+    }
+    let mut s = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+    for (x, y) in ra.iter().zip(rb) {
+        s += x * y;
+    }
+    s
 }
 
 /// The coordinates an evaluation reads.
@@ -156,6 +199,24 @@ impl InertiaTerms {
             &inv.s_kl[a][b] - &inv.s_kl[b][a]
         });
         let frame_live = std::array::from_fn(|i| !(planar && matches!(i, 2 | 3 | 4 | 6 | 7)));
+        let rows = Rows {
+            m_ff: row_major(&inv.m_ff),
+            k_ff: if elastic {
+                row_major(&inv.k_ff)
+            } else {
+                Vec::new()
+            },
+            s_kl: std::array::from_fn(|a| {
+                std::array::from_fn(|b| {
+                    if s_kl_live[a][b] {
+                        row_major(&inv.s_kl[a][b])
+                    } else {
+                        Vec::new()
+                    }
+                })
+            }),
+        };
+        let d_tf_live = std::array::from_fn(|r| d_tf[r].amax() != 0.0);
         Self {
             inv,
             k,
@@ -164,6 +225,8 @@ impl InertiaTerms {
             c_tf,
             d_tf,
             frame_live,
+            rows,
+            d_tf_live,
         }
     }
 
@@ -300,30 +363,43 @@ impl InertiaTerms {
                     st_x_a[a] + i_alpha[a] + itf_qdd[a] + gyro[a] + 2.0 * (w[a] * tr_p - pt_w);
             }
         }
+        // f_f row by row over contiguous rows; a term whose frame factor is
+        // zero in this state (it would add `0 · x`) is skipped.
+        let rows = &self.rows;
+        let d_tf = |r: usize, a: usize| &self.d_tf[r].as_slice()[a * k..(a + 1) * k];
         for a in 0..k {
             let mut f = 0.0;
             for r in 0..3 {
-                f += st.a_bar[r] * inv.s_bar[(r, a)] + self.i_tf(r, a, q) * st.alpha[r];
+                f += st.a_bar[r] * inv.s_bar[(r, a)];
+                if st.alpha[r] != 0.0 {
+                    // Ī_θf[r][a] = c_tf[r][a] + (d_tfᵀ q)_a.
+                    let mut i_tf = self.c_tf[r][a];
+                    if self.d_tf_live[r] {
+                        i_tf += dot_slices(d_tf(r, a), q);
+                    }
+                    f += i_tf * st.alpha[r];
+                }
             }
-            f += row_dot(&inv.m_ff, a, qdd);
+            f += dot_slices(row(&rows.m_ff, a, k), qdd);
             for kk in 0..3 {
                 for l in 0..3 {
+                    let (w2, w1) = (st.w2[kk][l], st.w1[kk][l]);
                     let c = inv.i_kl[l][kk][a];
-                    let live = self.s_kl_live[kk][l];
-                    if c != 0.0 || live {
-                        let mut v = c;
-                        if live {
-                            v += row_dot(&inv.s_kl[kk][l], a, q);
-                        }
-                        f += st.w2[kk][l] * v;
+                    if !self.s_kl_live[kk][l] {
+                        f += w2 * c;
+                        continue;
                     }
-                    if kk != l && live {
-                        f += 2.0 * st.w1[kk][l] * row_dot(&inv.s_kl[kk][l], a, qd);
+                    let s_row = row(&rows.s_kl[kk][l], a, k);
+                    if w2 != 0.0 {
+                        f += w2 * (c + dot_slices(s_row, q));
+                    }
+                    if kk != l && w1 != 0.0 {
+                        f += 2.0 * w1 * dot_slices(s_row, qd);
                     }
                 }
             }
             if self.elastic {
-                f += row_dot(&inv.k_ff, a, q);
+                f += dot_slices(row(&rows.k_ff, a, k), q);
             }
             out.f_f[map[a]] += f;
         }

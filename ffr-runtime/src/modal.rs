@@ -20,7 +20,7 @@ use crate::body::{
     Invariants, PointShape,
 };
 use crate::error::{Error, Result};
-use crate::inertia::{bilinear, InertiaTerms, Inputs};
+use crate::inertia::{bilinear, dot_slices, InertiaTerms, Inputs};
 use nalgebra::DMatrix;
 
 /// What a modal body is made of (see [`ModalBody::new`]).
@@ -252,12 +252,14 @@ impl ModalBody {
 
     /// `q_f = Φ η` into `qf`.
     fn expand(&self, eta: &[f64], qf: &mut [f64]) {
-        let phi = &self.data.phi;
+        // Column by column (`Φ` is column-major: column m contiguous).
+        let n = qf.len();
+        let phi = self.data.phi.as_slice();
         qf.iter_mut().for_each(|x| *x = 0.0);
         for (m, e) in eta.iter().enumerate() {
             if *e != 0.0 {
-                for (i, x) in qf.iter_mut().enumerate() {
-                    *x += phi[(i, m)] * e;
+                for (x, p) in qf.iter_mut().zip(&phi[m * n..(m + 1) * n]) {
+                    *x += p * e;
                 }
             }
         }
@@ -304,8 +306,9 @@ impl ModalBody {
                 &mut iw.tangent,
             ),
         }
+        // Φᵀ f, column by column of Φ.
         for (a, fa) in f.iter_mut().enumerate() {
-            *fa += (0..n).map(|i| phi[(i, a)] * iw.forces.f_f[i]).sum::<f64>();
+            *fa += dot_slices(&phi.as_slice()[a * n..(a + 1) * n], &iw.forces.f_f);
         }
         let Some(k_t) = k_t else { return };
         // K_t Φ (n × k, row-major), then Φᵀ (K_t Φ).
