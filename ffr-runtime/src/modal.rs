@@ -151,6 +151,9 @@ pub struct ModalBody {
     terms: InertiaTerms,
     /// `0, 1, …, k − 1`: the modes are the body's coordinates.
     identity: Vec<usize>,
+    /// `Φ` row-major (row `i`, the modes' values at coordinate `i`,
+    /// contiguous), for the tangent's `K_t Φ` and `Φᵀ (K_t Φ)`.
+    phi_rows: Vec<f64>,
 }
 
 impl std::fmt::Debug for ModalBody {
@@ -233,10 +236,11 @@ impl ModalBody {
         let terms = InertiaTerms::new(data.invariants.clone(), !data.stiffening, planar);
         Ok(Self {
             inner,
-            data,
             layout,
             terms,
             identity: (0..k).collect(),
+            phi_rows: data.phi.transpose().as_slice().to_vec(),
+            data,
         })
     }
 
@@ -311,23 +315,40 @@ impl ModalBody {
             *fa += dot_slices(&phi.as_slice()[a * n..(a + 1) * n], &iw.forces.f_f);
         }
         let Some(k_t) = k_t else { return };
-        // K_t Φ (n × k, row-major), then Φᵀ (K_t Φ).
+        // K_t Φ (n × k, row-major): row i is Σ_j K_t[i, j] Φ[j, :] over
+        // the band, each a contiguous row of Φ.
+        let (kphi, acc) = kphi.split_at_mut(n * k);
         let band = &iw.tangent.k_ff;
-        let hb = band.half_bandwidth();
+        kphi.iter_mut().for_each(|x| *x = 0.0);
         for i in 0..n {
-            let (lo, hi) = (i.saturating_sub(hb), (i + hb).min(n - 1));
-            for m in 0..k {
-                let mut v = 0.0;
-                for j in lo..=hi {
-                    v += band.get(i, j) * phi[(j, m)];
+            let (lo, r) = band.row(i);
+            let out = &mut kphi[i * k..(i + 1) * k];
+            for (d, kij) in r.iter().enumerate() {
+                if *kij != 0.0 {
+                    let phi_j = &self.phi_rows[(lo + d) * k..(lo + d + 1) * k];
+                    for (o, p) in out.iter_mut().zip(phi_j) {
+                        *o += kij * p;
+                    }
                 }
-                kphi[i * k + m] = v;
+            }
+        }
+        // Φᵀ (K_t Φ) = Σ_i Φ[i, :]ᵀ (K_t Φ)[i, :], one rank-one update per
+        // coordinate (row a of the result contiguous).
+        acc.iter_mut().for_each(|x| *x = 0.0);
+        for i in 0..n {
+            let phi_i = &self.phi_rows[i * k..(i + 1) * k];
+            let kphi_i = &kphi[i * k..(i + 1) * k];
+            for (a, pa) in phi_i.iter().enumerate() {
+                if *pa != 0.0 {
+                    for (o, kb) in acc[a * k..(a + 1) * k].iter_mut().zip(kphi_i) {
+                        *o += pa * kb;
+                    }
+                }
             }
         }
         for a in 0..k {
             for b in 0..k {
-                let v = (0..n).map(|i| phi[(i, a)] * kphi[i * k + b]).sum::<f64>();
-                k_t.add(a, b, v);
+                k_t.add(a, b, acc[a * k + b]);
             }
         }
     }
@@ -342,10 +363,11 @@ impl Body for ModalBody {
         if !self.data.stiffening {
             return BodyWork::default();
         }
-        // q_f = Φ η, zero velocities and accelerations, K_t Φ.
+        // q_f = Φ η, zero velocities and accelerations, K_t Φ, Φᵀ K_t Φ.
         let (n, hb) = (self.inner.layout().nf, self.inner.layout().half_bandwidth);
+        let k = self.layout.nf;
         BodyWork {
-            buf: vec![0.0; n * (2 + self.layout.nf)],
+            buf: vec![0.0; n * (2 + k) + k * k],
             inner: Some(Box::new(InnerWork {
                 work: self.inner.work(),
                 forces: BodyForces::zeros(n),
