@@ -40,12 +40,23 @@ pub(crate) struct InertiaTerms {
     d_tf_live: [bool; 3],
 }
 
-/// Row-major copies of the `k × k` matrices `f_f` reads row by row.
+/// Row-major copies of the `k × k` matrices `f_f` reads row by row (empty
+/// when zero), combined as the symmetric and antisymmetric frame factors
+/// use them.
 #[derive(Clone, Debug)]
 struct Rows {
     m_ff: Vec<f64>,
     k_ff: Vec<f64>,
-    s_kl: [[Vec<f64>; 3]; 3],
+    /// `S̄_kk`, then `S̄_kl + S̄_lk` at `[k][l]`, `k < l` (`(ω̃²)` is
+    /// symmetric).
+    s_sym: [[Vec<f64>; 3]; 3],
+    /// `S̄_xx + S̄_yy`, for a spin about z (`ω̃² = diag(−ω², −ω², 0)`).
+    s_spin_z: Vec<f64>,
+    /// `Ī_xx + Ī_yy`, likewise.
+    i_spin_z: Vec<f64>,
+    /// `S̄_ab − S̄_ba` (as `d_tf`): the Coriolis terms
+    /// `Σ_{k≠l} 2 ω̃_kl S̄_kl q̇ = −2 Σ_r ω_r (S̄_ab − S̄_ba) q̇`.
+    d_tf: [Vec<f64>; 3],
 }
 
 /// `m` row-major (row `a` is `[a k .. (a + 1) k]`).
@@ -199,6 +210,14 @@ impl InertiaTerms {
             &inv.s_kl[a][b] - &inv.s_kl[b][a]
         });
         let frame_live = std::array::from_fn(|i| !(planar && matches!(i, 2 | 3 | 4 | 6 | 7)));
+        let d_tf_live: [bool; 3] = std::array::from_fn(|r| d_tf[r].amax() != 0.0);
+        let nonzero = |m: DMatrix<f64>| {
+            if m.amax() != 0.0 {
+                row_major(&m)
+            } else {
+                Vec::new()
+            }
+        };
         let rows = Rows {
             m_ff: row_major(&inv.m_ff),
             k_ff: if elastic {
@@ -206,17 +225,17 @@ impl InertiaTerms {
             } else {
                 Vec::new()
             },
-            s_kl: std::array::from_fn(|a| {
-                std::array::from_fn(|b| {
-                    if s_kl_live[a][b] {
-                        row_major(&inv.s_kl[a][b])
-                    } else {
-                        Vec::new()
-                    }
+            s_sym: std::array::from_fn(|a| {
+                std::array::from_fn(|b| match a.cmp(&b) {
+                    std::cmp::Ordering::Equal => nonzero(inv.s_kl[a][a].clone()),
+                    std::cmp::Ordering::Less => nonzero(&inv.s_kl[a][b] + &inv.s_kl[b][a]),
+                    std::cmp::Ordering::Greater => Vec::new(),
                 })
             }),
+            s_spin_z: nonzero(&inv.s_kl[0][0] + &inv.s_kl[1][1]),
+            i_spin_z: (&inv.i_kl[0][0] + &inv.i_kl[1][1]).as_slice().to_vec(),
+            d_tf: std::array::from_fn(|r: usize| nonzero(d_tf[r].clone())),
         };
-        let d_tf_live = std::array::from_fn(|r| d_tf[r].amax() != 0.0);
         Self {
             inv,
             k,
@@ -363,38 +382,55 @@ impl InertiaTerms {
                     st_x_a[a] + i_alpha[a] + itf_qdd[a] + gyro[a] + 2.0 * (w[a] * tr_p - pt_w);
             }
         }
-        // f_f row by row over contiguous rows; a term whose frame factor is
-        // zero in this state (it would add `0 · x`) is skipped.
+        // f_f row by row over contiguous rows, each frame factor once: the
+        // symmetric (ω̃²)_kl on S̄_kl + S̄_lk, the Coriolis pairs on
+        // S̄_ab − S̄_ba, a spin about z on S̄_xx + S̄_yy. A term whose factor
+        // is zero in this state (it would add `0 · x`) is skipped.
         let rows = &self.rows;
-        let d_tf = |r: usize, a: usize| &self.d_tf[r].as_slice()[a * k..(a + 1) * k];
+        let w2 = &st.w2;
+        let spin_z = st.w[0] == 0.0 && st.w[1] == 0.0;
         for a in 0..k {
             let mut f = 0.0;
             for r in 0..3 {
                 f += st.a_bar[r] * inv.s_bar[(r, a)];
-                if st.alpha[r] != 0.0 {
-                    // Ī_θf[r][a] = c_tf[r][a] + (d_tfᵀ q)_a.
+                let (alpha, w) = (st.alpha[r], st.w[r]);
+                if alpha != 0.0 {
+                    // Ī_θf[r][a] α_r, Ī_θf[r][a] = c_tf[r][a] + (d_tfᵀ q)_a.
                     let mut i_tf = self.c_tf[r][a];
                     if self.d_tf_live[r] {
-                        i_tf += dot_slices(d_tf(r, a), q);
+                        i_tf += dot_slices(&self.d_tf[r].as_slice()[a * k..(a + 1) * k], q);
                     }
-                    f += i_tf * st.alpha[r];
+                    f += i_tf * alpha;
+                }
+                if w != 0.0 && self.d_tf_live[r] {
+                    f -= 2.0 * w * dot_slices(row(&rows.d_tf[r], a, k), qd);
                 }
             }
             f += dot_slices(row(&rows.m_ff, a, k), qdd);
-            for kk in 0..3 {
-                for l in 0..3 {
-                    let (w2, w1) = (st.w2[kk][l], st.w1[kk][l]);
-                    let c = inv.i_kl[l][kk][a];
-                    if !self.s_kl_live[kk][l] {
-                        f += w2 * c;
-                        continue;
+            if spin_z {
+                // (ω̃²)_xx = (ω̃²)_yy = −ω_z², the rest zero.
+                if w2[0][0] != 0.0 {
+                    let mut v = rows.i_spin_z[a];
+                    if !rows.s_spin_z.is_empty() {
+                        v += dot_slices(row(&rows.s_spin_z, a, k), q);
                     }
-                    let s_row = row(&rows.s_kl[kk][l], a, k);
-                    if w2 != 0.0 {
-                        f += w2 * (c + dot_slices(s_row, q));
-                    }
-                    if kk != l && w1 != 0.0 {
-                        f += 2.0 * w1 * dot_slices(s_row, qd);
+                    f += w2[0][0] * v;
+                }
+            } else {
+                for kk in 0..3 {
+                    for l in kk..3 {
+                        let w2 = w2[kk][l];
+                        if w2 == 0.0 {
+                            continue;
+                        }
+                        let mut v = inv.i_kl[l][kk][a];
+                        if kk != l {
+                            v += inv.i_kl[kk][l][a];
+                        }
+                        if !rows.s_sym[kk][l].is_empty() {
+                            v += dot_slices(row(&rows.s_sym[kk][l], a, k), q);
+                        }
+                        f += w2 * v;
                     }
                 }
             }
