@@ -333,22 +333,27 @@ impl ModalBody {
             }
         }
         // Φᵀ (K_t Φ) = Σ_i Φ[i, :]ᵀ (K_t Φ)[i, :], one rank-one update per
-        // coordinate (row a of the result contiguous).
+        // coordinate, on the upper triangle (row a from column a,
+        // contiguous): K_t is symmetric (the elastic Hessian, each pair
+        // computed once by the kernels), so the lower one is its mirror.
         acc.iter_mut().for_each(|x| *x = 0.0);
         for i in 0..n {
             let phi_i = &self.phi_rows[i * k..(i + 1) * k];
             let kphi_i = &kphi[i * k..(i + 1) * k];
             for (a, pa) in phi_i.iter().enumerate() {
                 if *pa != 0.0 {
-                    for (o, kb) in acc[a * k..(a + 1) * k].iter_mut().zip(kphi_i) {
+                    for (o, kb) in acc[a * k + a..(a + 1) * k].iter_mut().zip(&kphi_i[a..]) {
                         *o += pa * kb;
                     }
                 }
             }
         }
         for a in 0..k {
-            for b in 0..k {
-                k_t.add(a, b, acc[a * k + b]);
+            k_t.add(a, a, acc[a * k + a]);
+            for b in a + 1..k {
+                let v = acc[a * k + b];
+                k_t.add(a, b, v);
+                k_t.add(b, a, v);
             }
         }
     }
