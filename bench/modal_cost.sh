@@ -6,8 +6,9 @@
 # (scenes/spin_up_gravity.toml: 16 beam3, `modes = 4` and `modes = 8`), and
 # without stiffening (8 vs 64 elements, ω_s = 0.5 rad/s so the linear model
 # stays valid). The runs alternate; each figure is the least of REPS
-# (default 5) simulation wall times that the commands print (construction
-# excluded), so a busy machine inflates both sides alike.
+# (default 5) simulation CPU times that the commands print (this thread's
+# CPU time of the run alone, construction excluded), which other load on
+# the machine inflates less than wall time.
 #
 #   bench/modal_cost.sh [REPS]
 set -euo pipefail
@@ -21,7 +22,7 @@ for m in 4 8; do
     sed "s/^stiffening = true$/stiffening = true\nmodes = $m/" scenes/spin_up_gravity.toml >"$tmp/m$m.toml"
     grep -q "^modes = $m$" "$tmp/m$m.toml"
 done
-wall() { "$@" --csv "$tmp/out.csv" 2>&1 | sed -n 's/.*wall time \([0-9.]*\) s.*/\1/p' | head -1; }
+wall() { "$@" --csv "$tmp/out.csv" 2>&1 | sed -n 's/.*CPU time \([0-9.]*\) s.*/\1/p' | head -1; }
 declare -A best
 note() {
     local key=$1 t=$2
@@ -41,7 +42,7 @@ for _ in $(seq "$reps"); do
     note "spatial-m8" "$(wall $ffr run "$tmp/m8.toml")"
 done
 r() { python3 -c "print(f'{${best[$2]} / ${best[$3]}:.2f}')"; }
-echo "least of $reps runs, simulation wall time (s); load average: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "least of $reps runs, simulation CPU time (s); load average: $(cut -d' ' -f1-3 /proc/loadavg)"
 printf '%-44s %8s %8s %6s %s\n' case modal full ratio goal
 printf '%-44s %8s %8s %6s %s\n' "planar, 16 beam2, 4 modes + static" "${best[planar-16-modal]}" "${best[planar-16-full]}" "$(r x planar-16-modal planar-16-full)" "<= 1.0"
 printf '%-44s %8s %8s %6s %s\n' "planar, 64 beam2, 4 modes + static" "${best[planar-64-modal]}" "${best[planar-64-full]}" "$(r x planar-64-modal planar-64-full)" "<= 0.33"

@@ -543,6 +543,12 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str, layout: Layout) -> String {
                 v.output(OutArr::Psi, "psi", 3 * n);
                 ("fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64], _scratch: &mut [f64])".to_string(), "")
             }
+            KernelKind::ForceElastic => {
+                v.coef();
+                v.input("q", "q", |s| matches!(s, Sym::Q(_)));
+                v.output(OutArr::Fe, "f_e", n);
+                ("fn force_elastic(&self, c: &[f64], q: &[f64], f_e: &mut [f64], _scratch: &mut [f64]) -> bool".to_string(), "true\n")
+            }
         };
         kernel_fn(&mut s, layout, p, &signature, &v, tail);
     }

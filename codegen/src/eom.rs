@@ -143,6 +143,8 @@ pub struct KernelPolys {
     pub residual_elastic: Outputs,
     /// `tangent_elastic`: `f_e` and `K_ee`.
     pub tangent_elastic: Outputs,
+    /// `force_elastic`: `K_e q + ∇U_nl` alone (stiffening models only).
+    pub force_elastic: Option<Outputs>,
     /// `energy(q)`.
     pub energy: Outputs,
     /// `element_invariants(x₀)`.
@@ -473,6 +475,13 @@ impl KernelModel {
         for (a, p) in f_e.iter().enumerate() {
             push(&mut residual_elastic, OutArr::Fe, a, p.clone());
         }
+        let force_elastic = energy_grad.is_some().then(|| {
+            let mut out = Outputs::new();
+            for (a, p) in elastic.iter().enumerate() {
+                push(&mut out, OutArr::Fe, a, p.clone());
+            }
+            out
+        });
         let mut tangent_elastic = residual_elastic.clone();
         // K_ee = (inertial part, by the chain rule) + the elastic Hessian,
         // symmetric: each pair computed once and named.
@@ -537,6 +546,7 @@ impl KernelModel {
             tangent,
             residual_elastic,
             tangent_elastic,
+            force_elastic,
             energy,
             element_invariants,
             point_shape,

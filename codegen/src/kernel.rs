@@ -38,6 +38,8 @@ pub struct KernelSet {
     pub element_invariants: Program,
     /// `point_shape(ξ)`.
     pub point_shape: Program,
+    /// `force_elastic(q)` (stiffening models only).
+    pub force_elastic: Option<Program>,
 }
 
 impl KernelSet {
@@ -65,6 +67,7 @@ impl KernelSet {
             KernelKind::Energy => Some(&self.energy),
             KernelKind::ElementInvariants => Some(&self.element_invariants),
             KernelKind::PointShape => Some(&self.point_shape),
+            KernelKind::ForceElastic => self.force_elastic.as_ref(),
         }
     }
 
@@ -107,6 +110,7 @@ pub fn generate_kernels(model: &KernelModel) -> Result<KernelSet, Error> {
     let energy = build(&polys.energy);
     let element_invariants = build(&polys.element_invariants);
     let point_shape = build(&polys.point_shape);
+    let force_elastic = polys.force_elastic.as_ref().map(&mut build);
     let (coefficient_program, section_moments, section_coefficient_program) = match model.sections {
         SectionModel::Uniform => (coefficients.program(), Vec::new(), None),
         SectionModel::Varying => {
@@ -129,6 +133,7 @@ pub fn generate_kernels(model: &KernelModel) -> Result<KernelSet, Error> {
         energy,
         element_invariants,
         point_shape,
+        force_elastic,
     })
 }
 

@@ -356,3 +356,101 @@ fn spin_up_with_modes_converges_to_the_full_body() {
     eprintln!("pure truncation peak {pure_peak} vs {peak}");
     assert!(pure_peak < 0.5 * peak, "{pure_peak} vs {peak}");
 }
+
+/// `force_elastic` (the elastic force alone, generated for the stiffening
+/// models; a modal body's stiffening calls it at `q_f = Φ η`) is what
+/// `residual_elastic` gives at rest (`q̇ = q̈ = 0`, frame at rest), for every
+/// built-in kernel set, compiled and on tapes, element by element and
+/// through the body (`Body::elastic_force` against `Body::forces`); models
+/// without stiffening report that they have none.
+#[test]
+fn force_elastic_is_the_residual_at_rest() {
+    use ffr::runtime::spec::Formalism;
+    use ffr::runtime::{ElementKernels, KernelInput};
+    let mut checked = 0;
+    for (shape, dims) in [("beam2", &[2usize, 3][..]), ("beam3", &[3][..])] {
+        for &dim in dims {
+            for frame in [FrameModel::Free, FrameModel::PrescribedAtRest] {
+                for formalism in [Formalism::Consistent, Formalism::Lumped] {
+                    for stiffening in [
+                        Stiffening::Off,
+                        Stiffening::SecondOrder,
+                        Stiffening::FourthOrder,
+                    ] {
+                        for tape in [false, true] {
+                            let mut b = BeamSpec::new(shape, 3, KRB)
+                                .scene_dim(dim)
+                                .frame(frame)
+                                .formalism(formalism)
+                                .stiffening(stiffening);
+                            b.force_tape = tape;
+                            let what = format!(
+                                "{shape} {dim}D {frame:?} {formalism:?} {stiffening:?} tape={tape}"
+                            );
+                            let k = b.kernels().unwrap();
+                            let n = k.info().n_local;
+                            let mut c = vec![0.0; k.info().n_coefficients];
+                            k.coefficients(&KRB, 8.0 / 3.0, &mut c);
+                            let mut s = vec![0.0; k.info().scratch];
+                            let q = wave(n, 0.05, 0.3);
+                            let z = vec![0.0; n];
+                            let (mut a, mut r) = (vec![0.0; n], vec![0.0; n]);
+                            let has = k.force_elastic(&c, &q, &mut a, &mut s);
+                            assert_eq!(has, stiffening != Stiffening::Off, "{what}");
+                            if !has {
+                                assert!(a.iter().all(|x| *x == 0.0), "{what}: f_e touched");
+                                continue;
+                            }
+                            let x = KernelInput {
+                                x0: 8.0 / 3.0,
+                                q: &q,
+                                qd: &z,
+                                qdd: &z,
+                                frame: &[0.0; 9],
+                            };
+                            k.residual_elastic(&c, &x, &mut r, &mut s);
+                            let scale = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                            for i in 0..n {
+                                assert!(
+                                    (a[i] - r[i]).abs() <= 1e-13 * scale,
+                                    "{what}: f_e[{i}] {} against {}",
+                                    a[i],
+                                    r[i]
+                                );
+                            }
+                            // Through the body.
+                            let body = b.body().unwrap();
+                            let nf = body.layout().nf;
+                            let qf = wave(nf, 0.05, 0.9);
+                            let zf = vec![0.0; nf];
+                            let mut w = body.work();
+                            let mut f = vec![0.0; nf];
+                            assert!(body.elastic_force(&qf, &mut w, &mut f), "{what}");
+                            let mut out = BodyForces::zeros(nf);
+                            let st = BodyState {
+                                q_f: &qf,
+                                qd_f: &zf,
+                                qdd_f: &zf,
+                                frame: [0.0; 9],
+                            };
+                            body.forces(&st, false, &mut w, &mut out);
+                            let scale = out.f_f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                            for i in 0..nf {
+                                assert!(
+                                    (f[i] - out.f_f[i]).abs() <= 1e-13 * scale,
+                                    "{what}: body f_f[{i}] {} against {}",
+                                    f[i],
+                                    out.f_f[i]
+                                );
+                            }
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // 3 shapes-in-dimensions × 2 frames × 2 formalisms × 2 stiffening
+    // models × compiled and tape.
+    assert_eq!(checked, 48);
+}

@@ -404,6 +404,16 @@ pub trait Body: Send + Sync {
     fn damping(&self) -> Option<BandBuf> {
         None
     }
+
+    /// The elastic force alone at `q_f`, `K_ff q_f + ∇U_nl(q_f)` (what
+    /// [`Body::forces`] gives at rest: `q̇_f = q̈_f = 0`, the frame at rest),
+    /// into `f_f` (overwritten), by kernels that evaluate nothing else; a
+    /// modal body's stiffening calls it at `q_f = Φ η`. `false` (the
+    /// default, `f_f` unspecified): not available, use [`Body::forces`].
+    fn elastic_force(&self, q_f: &[f64], w: &mut BodyWork, f_f: &mut [f64]) -> bool {
+        let _ = (q_f, w, f_f);
+        false
+    }
 }
 
 impl<B: Body + ?Sized> Body for Box<B> {
@@ -415,6 +425,9 @@ impl<B: Body + ?Sized> Body for Box<B> {
     }
     fn forces(&self, s: &BodyState, fr: bool, w: &mut BodyWork, out: &mut BodyForces) {
         (**self).forces(s, fr, w, out)
+    }
+    fn elastic_force(&self, q_f: &[f64], w: &mut BodyWork, f_f: &mut [f64]) -> bool {
+        (**self).elastic_force(q_f, w, f_f)
     }
     fn tangent(
         &self,

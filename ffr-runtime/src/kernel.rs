@@ -208,6 +208,16 @@ pub trait ElementKernels: Send + Sync {
     /// `S(ξ)` (3 × n) and the section rotation `ψ(ξ) = ½ ∇ × u` (3 × n) on
     /// the element's centre line.
     fn point_shape(&self, c: &[f64], xi: f64, s: &mut [f64], psi: &mut [f64], scratch: &mut [f64]);
+
+    /// The elastic force alone, `f_e = K_e q + ∇U_nl(q)`: writes its
+    /// non-zero entries, as `residual_elastic` does (zero `f_e` first).
+    /// `false` (and `f_e` untouched) when the kernels were generated without
+    /// it (models without stiffening, whose elastic force is `K_e q`): the
+    /// caller then evaluates `residual_elastic` at rest.
+    fn force_elastic(&self, c: &[f64], q: &[f64], f_e: &mut [f64], scratch: &mut [f64]) -> bool {
+        let _ = (c, q, f_e, scratch);
+        false
+    }
 }
 
 /// A body generated with a fixed mesh (`#[flex_body]`, `Builder::body`):
@@ -304,6 +314,9 @@ macro_rules! forward_element_kernels {
             }
             fn point_shape(&self, c: &[f64], xi: f64, sh: &mut [f64], psi: &mut [f64], s: &mut [f64]) {
                 $dispatch!(self, k => k.point_shape(c, xi, sh, psi, s))
+            }
+            fn force_elastic(&self, c: &[f64], q: &[f64], f_e: &mut [f64], s: &mut [f64]) -> bool {
+                $dispatch!(self, k => k.force_elastic(c, q, f_e, s))
             }
         }
     };

@@ -491,6 +491,27 @@ impl<K: ElementKernels> Body for KernelBody<K> {
         }
     }
 
+    fn elastic_force(&self, q_f: &[f64], w: &mut BodyWork, f_f: &mut [f64]) -> bool {
+        // Attached masses add nothing at rest (their terms are inertial).
+        let ne = self.ne;
+        let (q, rest) = w.buf.split_at_mut(ne);
+        let (_, rest) = rest.split_at_mut(2 * ne);
+        let (fe, rest) = rest.split_at_mut(ne);
+        let (_, rest) = rest.split_at_mut(ne * ne + 15 * ne + 60);
+        let ks = rest;
+        f_f.iter_mut().for_each(|x| *x = 0.0);
+        for e in 0..self.elements {
+            let map = self.map(e);
+            gather(q, q_f, map);
+            fe.iter_mut().for_each(|x| *x = 0.0);
+            if !self.kernels.force_elastic(self.coef_of(e), q, fe, ks) {
+                return false;
+            }
+            scatter(fe, f_f, map);
+        }
+        true
+    }
+
     fn tangent(
         &self,
         s: &BodyState,

@@ -297,9 +297,17 @@ impl ModalBody {
             frame: [0.0; 9],
         };
         match &k_t {
-            None => self
-                .inner
-                .forces(&state, false, &mut iw.work, &mut iw.forces),
+            None => {
+                // The elastic force alone where the kernels have it, else
+                // the full body's forces at rest (the same numbers).
+                if !self
+                    .inner
+                    .elastic_force(qf, &mut iw.work, &mut iw.forces.f_f)
+                {
+                    self.inner
+                        .forces(&state, false, &mut iw.work, &mut iw.forces)
+                }
+            }
             Some(_) => self.inner.tangent(
                 &state,
                 0.0,

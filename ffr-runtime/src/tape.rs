@@ -276,6 +276,19 @@ impl ElementKernels for TapeKernels {
             },
         );
     }
+
+    fn force_elastic(&self, c: &[f64], q: &[f64], f_e: &mut [f64], scratch: &mut [f64]) -> bool {
+        let Some(t) = &self.tapes[KernelKind::ForceElastic.index()] else {
+            return false;
+        };
+        let inputs = Inputs {
+            coef: c,
+            q,
+            ..Inputs::default()
+        };
+        run(t, &inputs, scratch, |_, i, v| f_e[i] = v);
+        true
+    }
 }
 
 #[cfg(test)]

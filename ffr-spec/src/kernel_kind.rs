@@ -29,11 +29,15 @@ pub enum KernelKind {
     ElementInvariants,
     /// `S(ξ)` and the section rotation `ψ(ξ)` on the centre line.
     PointShape,
+    /// The elastic force alone, `K_e q + ∇U_nl(q)` (stiffening models only:
+    /// a modal body evaluates it at `q = Φ η`, where the inertial terms of
+    /// `residual_elastic` are zero).
+    ForceElastic,
 }
 
 impl KernelKind {
     /// Every kernel, in the order generated files define them.
-    pub const ALL: [KernelKind; 10] = [
+    pub const ALL: [KernelKind; 11] = [
         KernelKind::Coefficients,
         KernelKind::SectionCoefficients,
         KernelKind::Mass,
@@ -44,6 +48,7 @@ impl KernelKind {
         KernelKind::Energy,
         KernelKind::ElementInvariants,
         KernelKind::PointShape,
+        KernelKind::ForceElastic,
     ];
 
     /// The kernels run per element and call (all but the coefficients).
@@ -73,6 +78,7 @@ impl KernelKind {
             KernelKind::Energy => "energy",
             KernelKind::ElementInvariants => "element_invariants",
             KernelKind::PointShape => "point_shape",
+            KernelKind::ForceElastic => "force_elastic",
         }
     }
 
@@ -100,6 +106,6 @@ mod tests {
         names.sort();
         names.dedup();
         assert_eq!(names.len(), KernelKind::ALL.len());
-        assert_eq!(KernelKind::per_call().count(), 8);
+        assert_eq!(KernelKind::per_call().count(), 9);
     }
 }

@@ -22,7 +22,9 @@ pub fn run_scene(
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let (csv, svg) = outputs(csv, svg, &tag)?;
+    let c0 = crate::clock::thread_cpu_seconds();
     let r = ffr::scene::run(&scene)?;
+    let cpu = crate::clock::thread_cpu_seconds() - c0;
     let names: Vec<&str> = r.names.iter().map(String::as_str).collect();
     let cols: Vec<&[f64]> = r.columns.iter().map(Vec::as_slice).collect();
     if r.failed.is_none() {
@@ -70,13 +72,14 @@ pub fn run_scene(
         }
     }
     crate::outln!(
-        "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices{}, wall time {:.3} s",
+        "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices{}, wall time {:.3} s, CPU time {:.3} s",
         r.steps,
         scene.dt,
         r.newton_iterations,
         r.jacobians,
         retries(r.restarts, r.splits),
-        r.wall
+        r.wall,
+        cpu
     )?;
     crate::outln!("wrote {} and {}", csv.display(), svg.display())?;
     if let Some(f) = &r.failed {

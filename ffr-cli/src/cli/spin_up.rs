@@ -273,13 +273,14 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
         }
     }
     crate::outln!(
-        "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices{}, wall time {:.3} s",
+        "steps: {} of dt = {} s, {} Newton iterations, {} iteration matrices{}, wall time {:.3} s, CPU time {:.3} s",
         r.steps,
         args.dt,
         r.newton_iterations,
         r.jacobians,
         retries(r.restarts, r.splits),
-        r.wall
+        r.wall,
+        r.cpu
     )?;
     crate::outln!("wrote {} and {}", csv.display(), svg.display())?;
     if let Some(d) = &r.diverged {
