@@ -14,6 +14,9 @@ and writes, into the output directory (default: tests/data/fe):
                               lambda = omega^2 (rad^2/s^2) of the clamped
                               model (interface DOFs removed), from
                               scipy.linalg.eigh on the dense reduced matrices
+- cantilever_eigen_free.csv   the same for the free-free model (every DOF),
+                              its six rigid-body eigenvalues (round-off)
+                              dropped
 - cantilever.json             what was built (sizes, material, mesh, orders)
 
 Degrees of freedom are ordered node by node: ux, uy, uz of node 0, then of
@@ -120,6 +123,14 @@ def main():
         k_dense[np.ix_(free, free)], m_dense[np.ix_(free, free)], eigvals_only=True
     )
 
+    # The free-free model: every DOF; the six rigid motions give eigenvalues
+    # at round-off level (|lambda| ~ 1e-6 of the first elastic one or less),
+    # dropped here; the elastic ones are written.
+    lam_free = scipy.linalg.eigh(k_dense, m_dense, eigvals_only=True)
+    if not (np.all(np.abs(lam_free[:6]) < 1e-6 * lam_free[6]) and lam_free[6] > 0):
+        sys.exit(f"expected six rigid modes, got eigenvalues {lam_free[:8]}")
+    lam_free = lam_free[6:]
+
     def p(name):
         return os.path.join(args.out, name)
 
@@ -144,6 +155,11 @@ def main():
         w.writerow(["mode", "lambda", "omega"])
         for j, v in enumerate(lam):
             w.writerow([j + 1, repr(float(v)), repr(float(np.sqrt(v)))])
+    with open(p("cantilever_eigen_free.csv"), "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(["mode", "lambda", "omega"])
+        for j, v in enumerate(lam_free):
+            w.writerow([j + 1, repr(float(v)), repr(float(np.sqrt(v)))])
     meta = {
         "generator": "bench/fe/make_cantilever.py",
         "versions": {
@@ -164,6 +180,7 @@ def main():
         "dof_order": "node by node: ux, uy, uz of node 0, then node 1, ...",
         "interface": "nodes with x = 0 (cantilever_interface.csv), all their DOFs clamped",
         "eigen": "scipy.linalg.eigh(K_ff, M_ff) of the clamped model, every mode",
+        "eigen_free": "scipy.linalg.eigh(K, M) of the free model, the six rigid modes dropped",
     }
     with open(p("cantilever.json"), "w") as f:
         json.dump(meta, f, indent=2)
@@ -171,7 +188,7 @@ def main():
     print(
         f"{n} nodes, {3 * n} DOFs, {len(interface)} interface nodes;"
         f" nnz(M lower) = {m_low.nnz}, nnz(K lower) = {k_low.nnz};"
-        f" omega_1..4 = {np.sqrt(lam[:4])} rad/s"
+        f" omega_1..4 = {np.sqrt(lam[:4])} rad/s; free-free omega_1..4 = {np.sqrt(lam_free[:4])} rad/s"
     )
 
 

@@ -307,6 +307,36 @@ fn cantilever_clamped_frequencies_are_the_fe_codes_own() {
     }
 }
 
+/// The free-free body: modal truncation with every elastic mode (the six
+/// rigid motions removed exactly, in the mass-orthogonal complement) gives
+/// scipy's eigenvalues of the full `(K, M)` less its six rigid ones, to a
+/// relative 1e-9; the modes are mass-orthogonal to the rigid motions.
+#[test]
+fn cantilever_free_frequencies_are_the_fe_codes_own() {
+    let body = FeBody::new(cantilever(), FeReference::Free, &[]).unwrap();
+    assert_eq!(body.nf(), 297);
+    let want: Vec<f64> = column("cantilever_eigen_free.csv", "lambda")
+        .iter()
+        .map(|s| s.parse().unwrap())
+        .collect();
+    assert_eq!(want.len(), body.available_modes());
+    let basis = body
+        .reduce(&Reduction::Modal {
+            modes: body.available_modes(),
+        })
+        .unwrap();
+    for (i, (w, l)) in basis.frequencies.iter().zip(&want).enumerate() {
+        close(w * w, *l, 1e-9, *l, &format!("free λ_{}", i + 1));
+    }
+    let r = body.rigid_motions().unwrap();
+    let cross = r.transpose() * &body.invariants.m_ff * &basis.phi;
+    assert!(
+        cross.amax() < 1e-10 * body.invariants.mass.sqrt(),
+        "Rᵀ M Φ = {:e}",
+        cross.amax()
+    );
+}
+
 /// The lowest bending frequency against Euler–Bernoulli,
 /// `ω₁ = 1.875104² √(E I / (ρ A L⁴))` with `I = B H³/12`: about 525 rad/s.
 /// The FE model gives 628.6 rad/s, 19.7 % higher: the trilinear hexahedra
@@ -555,11 +585,41 @@ fn hostile_matrix_files_are_refused_with_located_errors() {
             "not a valid Matrix Market mass matrix",
         ),
         ("empty", String::new(), "is empty"),
+        (
+            "minus_nan",
+            good.replacen("4 4 3e0", "4 4 -NaN", 1),
+            "entry (4, 4) is NaN",
+        ),
+        (
+            "plus_inf",
+            good.replacen("4 4 3e0", "4 4 +inf", 1),
+            "entry (4, 4) is inf",
+        ),
+        (
+            "half_exponent",
+            good.replacen("4 4 3e0", "4 4 3e", 1),
+            "not a valid Matrix Market mass matrix",
+        ),
     ];
     for (tag, text, want) in cases {
         let e = err(load(tag, None, Some(&text), None));
         assert!(e.contains(want), "{tag}: {e}");
     }
+}
+
+#[test]
+fn unusual_but_valid_numbers_are_read() {
+    let good = mtx_symmetric(&lumped_mass());
+    let text = good
+        .replacen("4 4 3e0", "4 4 3.e0", 1)
+        .replacen("1 1 2e0", "1 1 +2.0", 1)
+        .replacen("15 15 1.25e0", "15 15 .125E+1", 1)
+        .replace('\n', "\r\n");
+    for token in ["3.e0", "+2.0", ".125E+1", "\r\n"] {
+        assert!(text.contains(token), "{token}");
+    }
+    let m = load("unusual", None, Some(&text), None).unwrap();
+    assert_eq!(m.mass, lumped_mass());
 }
 
 #[test]
