@@ -24,7 +24,7 @@ pub mod error;
 #[cfg(feature = "modal")]
 pub mod export;
 pub mod expr;
-#[cfg(feature = "modal")]
+#[cfg(feature = "fe")]
 pub mod fe;
 pub mod flex_body;
 pub mod kernel;

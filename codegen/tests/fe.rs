@@ -10,7 +10,7 @@
 //! Craig–Bampton frequencies converge to them from above; hostile files and
 //! models get errors, not panics.
 
-#![cfg(feature = "modal")]
+#![cfg(feature = "fe")]
 
 use ffr_codegen::fe::{FeBody, FeError, FeModel, FeReference, MAX_FE_ORDER};
 use ffr_codegen::modal::{modal_truncation, Invariants, Reduction};
