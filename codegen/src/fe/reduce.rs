@@ -4,7 +4,10 @@
 //! order and signs.
 
 use super::{FeBody, FeError, FeReference};
-use crate::modal::{craig_bampton, modal_truncation, ModalBasis, Reduction};
+use crate::modal::{craig_bampton, modal_truncation, ModalBasis, ModalModel, Reduction};
+use crate::poly::Poly;
+use ffr_spec::scene::ModalSettings;
+use ffr_spec::Stiffening;
 use nalgebra::DMatrix;
 
 impl FeBody {
@@ -74,5 +77,33 @@ impl FeBody {
                 )?)
             }
         }
+    }
+
+    /// The reduced body `settings` make (as a beam's in a scene): modal
+    /// truncation to `settings.modes` modes, or Craig–Bampton on the FE
+    /// nodes `settings.boundary`; the static modes of the frame's inertia
+    /// loads if `settings.static_modes` (a clamped body: they need `K_ff`
+    /// positive definite); the modal damping; the invariants projected
+    /// ([`ModalModel::from_basis`], no stiffening: `M` and `K` do not give
+    /// it).
+    pub fn modal_model(&self, settings: &ModalSettings) -> Result<ModalModel, FeError> {
+        let reduction = if settings.boundary.is_empty() {
+            Reduction::Modal {
+                modes: settings.modes,
+            }
+        } else {
+            Reduction::CraigBampton {
+                boundary_nodes: settings.boundary.clone(),
+                modes: settings.modes,
+            }
+        };
+        let base = self.reduce(&reduction)?;
+        Ok(ModalModel::from_basis(
+            &self.invariants,
+            base,
+            settings,
+            Stiffening::Off,
+            &Poly::zero(),
+        )?)
     }
 }
