@@ -52,8 +52,9 @@ fn truss_stiffness(nodes: &[Vector3<f64>]) -> DMatrix<f64> {
     let mut k = DMatrix::zeros(3 * nodes.len(), 3 * nodes.len());
     for (i, j) in bars {
         let d = nodes[j] - nodes[i];
-        let len = d.norm();
-        let n = d / len;
+        // |d| without overflow for far-away nodes.
+        let n = (d / d.amax()).normalize();
+        let len = d.dot(&n);
         let ea = 1.0e6;
         let b = n * n.transpose() * (ea / len);
         for a in 0..3 {
@@ -743,6 +744,20 @@ fn indefinite_and_ill_formed_models_are_refused() {
     let line: Vec<Vector3<f64>> = (0..5).map(|i| Vector3::new(i as f64, 0.0, 0.0)).collect();
     let e = FeModel::new(line, lumped_mass(), k.clone(), "m", "k").unwrap_err();
     assert!(e.to_string().contains("lie on one line"), "{e}");
+    // Entries whose norm overflows f64.
+    let e = err(load(
+        "huge_mass",
+        None,
+        Some(&mtx_symmetric(&(lumped_mass() * 1e200))),
+        None,
+    ));
+    assert!(e.contains("the mass matrix's entries are too large"), "{e}");
+    // Coordinates whose second moments overflow f64.
+    let far: Vec<Vector3<f64>> = nodes.iter().map(|p| p * 1e200).collect();
+    let k_far = truss_stiffness(&far);
+    let model = FeModel::new(far, lumped_mass(), k_far, "m", "k").unwrap();
+    let e = FeBody::new(model, FeReference::Free, &[]).unwrap_err();
+    assert!(e.to_string().contains("the invariants overflow f64"), "{e}");
     // Matrices of the wrong order given directly.
     let e = FeModel::new(
         nodes.clone(),

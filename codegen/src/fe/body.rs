@@ -91,6 +91,13 @@ impl FeBody {
             ));
         }
         let invariants = invariants(&model, &dofs);
+        let finite = |m: &DMatrix<f64>| m.iter().all(|v| v.is_finite());
+        if !(inv_finite(&invariants) && finite(&invariants.m_ff) && finite(&invariants.k_ff)) {
+            return Err(FeError::Model(
+                "the invariants overflow f64: the node coordinates or the masses are too large"
+                    .into(),
+            ));
+        }
         if reference == FeReference::Clamped && Cholesky::new(invariants.k_ff.clone()).is_none() {
             return Err(FeError::file(
                 &model.stiffness_file,
@@ -113,6 +120,24 @@ impl FeBody {
     pub fn nf(&self) -> usize {
         self.dofs.len()
     }
+}
+
+/// `m`, `S_t0`, `Θ`, `S̄`, `S̄_kl`, `Ī_kl` all finite.
+fn inv_finite(inv: &Invariants) -> bool {
+    inv.mass.is_finite()
+        && inv.s_t0.iter().all(|v| v.is_finite())
+        && inv.theta.iter().all(|v| v.is_finite())
+        && inv.s_bar.iter().all(|v| v.is_finite())
+        && inv
+            .s_kl
+            .iter()
+            .flatten()
+            .all(|m| m.iter().all(|v| v.is_finite()))
+        && inv
+            .i_kl
+            .iter()
+            .flatten()
+            .all(|m| m.iter().all(|v| v.is_finite()))
 }
 
 /// The invariants of the nodal-based FFRF (docs/theory.md), on the elastic

@@ -22,7 +22,7 @@ pub const MAX_MATRIX_BYTES: u64 = 64 << 20;
 
 /// A `general` file is symmetric when `|A_ij − A_ji| ≤ SYMMETRY_TOL ·
 /// max|A|` for every pair (an FE code's round-off in assembly); the matrix
-/// used is then `(A + Aᵀ)/2`.
+/// used is then `(A + Aᵀ)/2` (on the pairs that differ).
 pub const SYMMETRY_TOL: f64 = 1e-10;
 
 /// How a file stores its matrix.
@@ -323,8 +323,21 @@ pub(crate) fn parse_matrix(
                 ),
             ));
         }
-        let t = a.transpose();
-        a = (a + t) * 0.5;
+        symmetrize(&mut a);
     }
     Ok((a, scan.storage))
+}
+
+/// Each pair `A_ij ≠ A_ji` replaced by its mean (`½A_ij + ½A_ji`, which
+/// cannot overflow); an exactly symmetric matrix is left as it is.
+pub(crate) fn symmetrize(a: &mut DMatrix<f64>) {
+    for j in 0..a.ncols() {
+        for i in j + 1..a.nrows() {
+            if a[(i, j)] != a[(j, i)] {
+                let v = 0.5 * a[(i, j)] + 0.5 * a[(j, i)];
+                a[(i, j)] = v;
+                a[(j, i)] = v;
+            }
+        }
+    }
 }

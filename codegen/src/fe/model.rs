@@ -40,9 +40,9 @@ pub const RIGID_TOL: f64 = 1e-10;
 pub struct FeModel {
     /// Node positions in the body frame (node `i` = row `i` of the node file).
     pub nodes: Vec<Vector3<f64>>,
-    /// `M`, `3n × 3n`, symmetric.
+    /// `M`, `3n × 3n`, exactly symmetric.
     pub mass: DMatrix<f64>,
-    /// `K`, `3n × 3n`, symmetric.
+    /// `K`, `3n × 3n`, exactly symmetric.
     pub stiffness: DMatrix<f64>,
     /// `M_s`, `n × n`: the x block of `M` (equal to the y and z blocks).
     pub scalar_mass: DMatrix<f64>,
@@ -72,7 +72,8 @@ impl FeModel {
 
     /// A model from its parts; `mass_file` and `stiffness_file` name the
     /// matrices in errors. Checks: 1 to [`MAX_FE_NODES`] finite nodes not
-    /// all on one line, matrices `3n × 3n`, finite and symmetric; `M`
+    /// all on one line, matrices `3n × 3n`, finite and symmetric to
+    /// [`super::SYMMETRY_TOL`] (then `(A + Aᵀ)/2` is kept); `M`
     /// positive definite and direction-decoupled, `K` as the module says.
     pub fn new(
         nodes: Vec<Vector3<f64>>,
@@ -119,6 +120,12 @@ impl FeModel {
                 ));
             }
             let big = a.amax();
+            if !a.norm().is_finite() {
+                return Err(FeError::file(
+                    file,
+                    format!("the {what} matrix's entries are too large: its norm overflows f64 (largest entry {big:e})"),
+                ));
+            }
             for j in 0..order {
                 for i in j + 1..order {
                     if (a[(i, j)] - a[(j, i)]).abs() > super::SYMMETRY_TOL * big {
@@ -136,6 +143,9 @@ impl FeModel {
                 }
             }
         }
+        let (mut mass, mut stiffness) = (mass, stiffness);
+        super::matrix::symmetrize(&mut mass);
+        super::matrix::symmetrize(&mut stiffness);
         let scalar_mass = scalar_mass(&mass, mass_file)?;
         if Cholesky::new(mass.clone()).is_none() {
             return Err(FeError::file(
@@ -170,10 +180,22 @@ impl FeModel {
     /// x, y, z through the nodes' centroid (`ω × (x_i − c)`).
     pub fn rigid_motions(&self) -> DMatrix<f64> {
         let n = self.len();
-        let c = self.nodes.iter().sum::<Vector3<f64>>() / n as f64;
+        let c = self
+            .nodes
+            .iter()
+            .map(|p| p / n as f64)
+            .sum::<Vector3<f64>>();
+        // Positions relative to the centroid in units of the largest, so
+        // that the norms below cannot overflow.
+        let scale = self
+            .nodes
+            .iter()
+            .map(|p| (p - c).amax())
+            .fold(0.0, f64::max);
+        let scale = if scale > 0.0 { scale } else { 1.0 };
         let mut r = DMatrix::zeros(3 * n, 6);
         for (i, p) in self.nodes.iter().enumerate() {
-            let d = p - c;
+            let d = (p - c) / scale;
             for k in 0..3 {
                 r[(3 * i + k, k)] = 1.0;
                 let w = Vector3::ith(k, 1.0).cross(&d);
