@@ -594,6 +594,16 @@ fn hostile_matrix_files_are_refused_with_located_errors() {
             "_mass.mtx:7:3: column index `99999999999999999999999` out of range",
         ),
         (
+            "glued_index",
+            good.replacen("4 4 3e0", "4 99999999999999999999999.5", 1),
+            "_mass.mtx:7:3: column index `99999999999999999999999` out of range",
+        ),
+        (
+            "glued_row",
+            good.replacen("4 4 3e0", "99999999999999999999999.5 4 3e0", 1),
+            "_mass.mtx:7:1: row index `99999999999999999999999` out of range",
+        ),
+        (
             "zero_index",
             good.replacen("4 4 3e0", "0 4 3e0", 1),
             "_mass.mtx:7:1: row index `0` out of range",

@@ -47,21 +47,30 @@ fn is_integer(t: &str) -> bool {
     !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit())
 }
 
-/// The whitespace-separated tokens of `line` with their columns (from 1).
-fn tokens_with_columns(line: &str) -> impl Iterator<Item = (usize, &str)> {
-    let mut rest = line;
-    let mut offset = 0;
-    std::iter::from_fn(move || {
-        let start = rest.find(|c: char| !c.is_whitespace())?;
-        let len = rest[start..]
-            .find(char::is_whitespace)
-            .unwrap_or(rest.len() - start);
-        let token = &rest[start..start + len];
-        let col = line[..offset + start].chars().count() + 1;
-        offset += start + len;
-        rest = &rest[start + len..];
-        Some((col, token))
-    })
+/// The (at most) two leading runs of ASCII digits of an entry line, with
+/// their columns (from 1), as the reader's grammar takes them for the row
+/// and column indices: spaces and tabs, a maximal digit run, spaces and
+/// tabs, a maximal digit run (its `Dimension` is greedy and its implicit
+/// whitespace may be empty, so `3 4.5` is the entry (3, 4) = 0.5). Stops at
+/// the first run that is missing.
+fn leading_indices(line: &str) -> Vec<(usize, &str)> {
+    let bytes = line.as_bytes();
+    let mut at = 0;
+    let mut out = Vec::new();
+    while out.len() < 2 {
+        while at < bytes.len() && (bytes[at] == b' ' || bytes[at] == b'\t') {
+            at += 1;
+        }
+        let from = at;
+        while at < bytes.len() && bytes[at].is_ascii_digit() {
+            at += 1;
+        }
+        if at == from {
+            break;
+        }
+        out.push((line[..from].chars().count() + 1, &line[from..at]));
+    }
+    out
 }
 
 fn scan(text: &str, file: &str, order: usize, what: &str) -> Result<Scan, FeError> {
@@ -155,11 +164,7 @@ fn scan(text: &str, file: &str, order: usize, what: &str) -> Result<Scan, FeErro
             ));
         }
         let mut index = [0u64; 2];
-        for (k, (col, t)) in tokens_with_columns(l).take(2).enumerate() {
-            if !is_integer(t) {
-                // Not an index: the reader reports it.
-                break;
-            }
+        for (k, (col, t)) in leading_indices(l).into_iter().enumerate() {
             let v: u64 = t.parse().unwrap_or(u64::MAX);
             if v == 0 || v > n {
                 return Err(FeError::at(
