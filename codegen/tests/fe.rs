@@ -8,14 +8,17 @@
 //! has the box's exact mass, first moment and `Θ_kl`, its clamped
 //! frequencies with every mode kept are scikit-fem/scipy's own, and
 //! Craig–Bampton frequencies converge to them from above; hostile files and
-//! models get errors, not panics.
+//! models get errors, not panics (also under random mutations, proptest).
 
 #![cfg(feature = "fe")]
 
-use ffr_codegen::fe::{FeBody, FeError, FeModel, FeReference, MAX_FE_ORDER};
+use ffr_codegen::fe::{
+    read_matrix_str, read_nodes_str, FeBody, FeError, FeModel, FeReference, MAX_FE_ORDER,
+};
 use ffr_codegen::modal::{modal_truncation, Invariants, Reduction};
 use ffr_codegen::ModalSettings;
 use nalgebra::{DMatrix, Vector3};
+use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 
 // ---------------------------------------------------------------------------
@@ -841,4 +844,64 @@ fn bad_interfaces_are_refused() {
         })
         .unwrap_err();
     assert!(e.to_string().contains("is an interface node"), "{e}");
+}
+
+/// Characters that matter to the Matrix Market grammar and the CSV reader.
+const INTERESTING: &[char] = &[
+    '0', '1', '9', ' ', '\t', '.', 'e', 'E', '+', '-', '\n', '\r', '%', 'N', 'a', 'i', 'n', 'f',
+    ',', '"', '#', 'x', '\u{a0}',
+];
+
+/// `text` with `edits` (position, character, insert or replace) applied.
+fn mutate(text: &str, edits: &[(usize, usize, bool)]) -> String {
+    let mut chars: Vec<char> = text.chars().collect();
+    for &(at, c, insert) in edits {
+        let at = at % (chars.len() + 1);
+        let c = INTERESTING[c % INTERESTING.len()];
+        if insert || at == chars.len() {
+            chars.insert(at, c);
+        } else {
+            chars[at] = c;
+        }
+    }
+    chars.into_iter().collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+
+    /// Mutated matrix files give a matrix or an error, never a panic; what
+    /// is accepted is finite, symmetric and of the order asked for.
+    #[test]
+    fn mutated_matrix_files_never_panic(
+        edits in proptest::collection::vec((0usize..400, 0usize..64, any::<bool>()), 1..6),
+        digits in 0usize..30,
+    ) {
+        let good = mtx_symmetric(&lumped_mass());
+        let mut text = mutate(&good, &edits);
+        // Sometimes a long digit run somewhere.
+        if digits > 18 {
+            let at = edits[0].0 % (text.len() + 1);
+            if text.is_char_boundary(at) {
+                text.insert_str(at, &"9".repeat(digits));
+            }
+        }
+        if let Ok((a, _)) = read_matrix_str(&text, "m.mtx", "mass", 15) {
+            prop_assert_eq!(a.shape(), (15, 15));
+            prop_assert!(a.iter().all(|v| v.is_finite()));
+            prop_assert_eq!(&a, &a.transpose());
+        }
+    }
+
+    /// Mutated node files give nodes or an error, never a panic.
+    #[test]
+    fn mutated_node_files_never_panic(
+        edits in proptest::collection::vec((0usize..120, 0usize..64, any::<bool>()), 1..6),
+    ) {
+        let text = mutate(&nodes_csv(&bipyramid_nodes()), &edits);
+        if let Ok(nodes) = read_nodes_str(&text, "n.csv") {
+            prop_assert!(!nodes.is_empty());
+            prop_assert!(nodes.iter().all(|p| p.iter().all(|v| v.is_finite())));
+        }
+    }
 }

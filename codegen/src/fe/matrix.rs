@@ -236,11 +236,11 @@ pub fn read_matrix(
             ),
         )
     })?;
-    parse_matrix(&text, shown, what, order)
+    read_matrix_str(&text, shown, what, order)
 }
 
 /// [`read_matrix`] of the text of a file.
-pub(crate) fn parse_matrix(
+pub fn read_matrix_str(
     text: &str,
     shown: &str,
     what: &str,

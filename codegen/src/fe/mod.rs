@@ -18,9 +18,9 @@ mod nodes;
 mod reduce;
 
 pub use body::{FeBody, FeReference};
-pub use matrix::{read_matrix, Storage, MAX_MATRIX_BYTES, SYMMETRY_TOL};
+pub use matrix::{read_matrix, read_matrix_str, Storage, MAX_MATRIX_BYTES, SYMMETRY_TOL};
 pub use model::{FeModel, DIRECTION_TOL, RIGID_TOL};
-pub use nodes::{read_nodes, MAX_NODE_BYTES};
+pub use nodes::{read_nodes, read_nodes_str, MAX_NODE_BYTES};
 
 use crate::modal::ModalError;
 use ffr_spec::Location;

@@ -23,11 +23,11 @@ pub fn read_nodes(path: &Path, shown: &str) -> Result<Vec<Vector3<f64>>, FeError
             ),
         )
     })?;
-    parse_nodes(&text, shown)
+    read_nodes_str(&text, shown)
 }
 
 /// [`read_nodes`] of the text of a file.
-pub(crate) fn parse_nodes(text: &str, shown: &str) -> Result<Vec<Vector3<f64>>, FeError> {
+pub fn read_nodes_str(text: &str, shown: &str) -> Result<Vec<Vector3<f64>>, FeError> {
     let mut reader = csv::ReaderBuilder::new()
         .has_headers(true)
         .comment(Some(b'#'))
