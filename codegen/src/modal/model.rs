@@ -55,7 +55,7 @@ impl ModalModel {
     }
 
     /// [`ModalModel::new`] of a body given by its invariants `inv` alone
-    /// (e.g. an FE body, [`crate::fe::FeBody`]): `u_nl` is its stiffening
+    /// (e.g. an FE body, `fe::FeBody`): `u_nl` is its stiffening
     /// energy at the parameters, a polynomial in its elastic coordinates
     /// (zero without stiffening), for the modal derivatives among the
     /// static modes.
