@@ -24,6 +24,8 @@ pub mod error;
 #[cfg(feature = "modal")]
 pub mod export;
 pub mod expr;
+#[cfg(feature = "fe")]
+pub mod fe;
 pub mod flex_body;
 pub mod kernel;
 pub mod limits;

@@ -437,7 +437,9 @@ fn eigenpairs(
             k.amax()
         )));
     }
-    let eig = SymmetricEigen::new(sym(b));
+    let b = sym(b);
+    let mut eig = SymmetricEigen::new(b.clone());
+    repair_pairing(&b, &mut eig);
     let mut order: Vec<usize> = (0..n).collect();
     // Largest μ first (= smallest λ); ties by index.
     order.sort_by(|&a, &b| {
@@ -471,6 +473,39 @@ fn eigenpairs(
         lambda.push(1.0 / mu);
     }
     Ok((lambda, phi))
+}
+
+/// Pair `eig`'s eigenvalues with the right eigenvectors. nalgebra's
+/// `SymmetricEigen` can return accurate eigenvectors with their eigenvalues
+/// swapped (dimforge/nalgebra#1109, open; met on the solid cantilever of
+/// tests/data/fe, where two modes at λ = 3.8e8 and 6.2e8 came back
+/// exchanged). Each eigenvector's Rayleigh quotient `yᵀBy` is its
+/// eigenvalue to `ε‖B‖`; if any differs from the eigenvalue it came with by
+/// more than `1e-6 |μ| + 100 ε μ_max`, the eigenvalues (a correct set) are
+/// reassigned by rank: the vector with the k-th largest quotient gets the
+/// k-th largest eigenvalue (ties by index). Otherwise nothing changes, so
+/// results are bit for bit those of the solver whenever it paired them.
+fn repair_pairing(b: &DMatrix<f64>, eig: &mut SymmetricEigen<f64, nalgebra::Dyn>) {
+    let n = b.nrows();
+    let by = b * &eig.eigenvectors;
+    let rq: Vec<f64> = (0..n)
+        .map(|i| eig.eigenvectors.column(i).dot(&by.column(i)))
+        .collect();
+    let mu_max = eig.eigenvalues.amax();
+    let paired = (0..n).all(|i| {
+        let mu = eig.eigenvalues[i];
+        (rq[i] - mu).abs() <= 1e-6 * mu.abs() + 100.0 * f64::EPSILON * mu_max
+    });
+    if paired {
+        return;
+    }
+    let mut by_rq: Vec<usize> = (0..n).collect();
+    by_rq.sort_by(|&a, &b| rq[b].total_cmp(&rq[a]).then(a.cmp(&b)));
+    let mut values: Vec<f64> = eig.eigenvalues.iter().copied().collect();
+    values.sort_by(|a, b| b.total_cmp(a));
+    for (rank, &i) in by_rq.iter().enumerate() {
+        eig.eigenvalues[i] = values[rank];
+    }
 }
 
 /// `M`-orthonormalize the columns in order (classical Gram–Schmidt, two
@@ -587,7 +622,7 @@ fn fix_sign(phi: &mut DMatrix<f64>, j: usize) {
 /// An orthonormal basis (n × (n − r)) of the orthogonal complement of the
 /// columns of `c` (n × r, full column rank): the trailing columns of the
 /// Householder `Q` of `[c | e₁ … e_{n−r}]`.
-fn complement(c: &DMatrix<f64>) -> DMatrix<f64> {
+pub(crate) fn complement(c: &DMatrix<f64>) -> DMatrix<f64> {
     let (n, r) = c.shape();
     let mut a = DMatrix::zeros(n, n);
     a.view_mut((0, 0), (n, r)).copy_from(c);

@@ -29,6 +29,8 @@ mod energy;
 mod invariants;
 mod model;
 
+#[cfg(feature = "fe")]
+pub(crate) use basis::complement;
 pub use basis::{
     augment, craig_bampton, modal_truncation, reduce, rigid_body_modes, static_loads, ModalBasis,
     ModeKind, Reduction, STATIC_DROP_TOL,

@@ -8,6 +8,7 @@
 use super::Reduction;
 use super::{augment, reduce, static_loads, substitute_params, Invariants, ModalBasis, ModalError};
 use crate::body::BodySpec;
+use crate::poly::Poly;
 use ffr_spec::scene::ModalSettings;
 use ffr_spec::{Params, Stiffening};
 use nalgebra::DMatrix;
@@ -45,10 +46,29 @@ impl ModalModel {
         settings: &ModalSettings,
         stiffening: Stiffening,
     ) -> Result<Self, ModalError> {
+        let u_nl = if settings.static_modes {
+            substitute_params(&spec.stiffening_energy(stiffening), p)?
+        } else {
+            Poly::zero()
+        };
+        Self::from_basis(inv, base, settings, stiffening, &u_nl)
+    }
+
+    /// [`ModalModel::new`] of a body given by its invariants `inv` alone
+    /// (e.g. an FE body, `fe::FeBody`): `u_nl` is its stiffening
+    /// energy at the parameters, a polynomial in its elastic coordinates
+    /// (zero without stiffening), for the modal derivatives among the
+    /// static modes.
+    pub fn from_basis(
+        inv: &Invariants,
+        base: ModalBasis,
+        settings: &ModalSettings,
+        stiffening: Stiffening,
+        u_nl: &Poly,
+    ) -> Result<Self, ModalError> {
         let normal = base.frequencies.len();
         let basis = if settings.static_modes {
-            let u_nl = substitute_params(&spec.stiffening_energy(stiffening), p)?;
-            let loads = static_loads(inv, &u_nl, &base.phi, normal)?;
+            let loads = static_loads(inv, u_nl, &base.phi, normal)?;
             augment(&base, &inv.m_ff, &inv.k_ff, &loads)?
         } else {
             base
