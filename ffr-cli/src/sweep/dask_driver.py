@@ -45,7 +45,7 @@ def main():
     except ImportError as e:
         fail(3, f"{sys.executable}: cannot import dask.distributed ({e})")
     try:
-        client = Client(scheduler, timeout=timeout, set_as_default=False)
+        client = Client(scheduler, timeout=timeout)
     except Exception as e:  # OSError, TimeoutError, ValueError for a bad address
         fail(4, f"{type(e).__name__}: {e}")
     try:
