@@ -268,7 +268,7 @@ fn ranges_and_seeded_samples_are_reproducible() {
             .collect()
     };
     assert_eq!(floats(0), [1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0]);
-    assert_eq!(a.axes[1].values, [4, 8, 12, 16].map(|i| SceneValue::Int(i)));
+    assert_eq!(a.axes[1].values, [4, 8, 12, 16].map(SceneValue::Int));
     let ramp = floats(2);
     assert!(ramp.iter().all(|x| (10.0..20.0).contains(x)), "{ramp:?}");
     let mut distinct = ramp.clone();

@@ -56,7 +56,7 @@ pub struct SweepArgs {
     /// The Dask scheduler's address (`tcp://HOST:PORT`; --engine dask).
     #[arg(long)]
     pub scheduler: Option<String>,
-    /// The Python interpreter with dask[distributed] (--engine dask;
+    /// The Python interpreter with `dask[distributed]` (--engine dask;
     /// default: the environment variable FFR_PYTHON, else `python3`).
     #[arg(long)]
     pub python: Option<String>,

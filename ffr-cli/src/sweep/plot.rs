@@ -14,6 +14,9 @@ pub const MARK: &str = "<!-- ffr sweep results plot -->";
 
 const COLORS: [RGBColor; 6] = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK];
 
+/// A line of a panel: the other axes' value indices, and its points.
+type Line = (Vec<usize>, Vec<(f64, f64)>);
+
 /// Lines with a legend entry, per panel; more are drawn without one.
 const MAX_LEGEND: usize = 12;
 
@@ -46,7 +49,7 @@ pub fn svg(study: &Study, rows: &[CaseResult]) -> Result<String, Box<dyn std::er
                 continue;
             };
             // Lines keyed by the other axes' value indices.
-            let mut lines: Vec<(Vec<usize>, Vec<(f64, f64)>)> = Vec::new();
+            let mut lines: Vec<Line> = Vec::new();
             for r in rows.iter().filter(|r| r.ok()) {
                 let idx = cases::indices(&study.axes, r.case);
                 let x = match study.axes.first() {

@@ -89,7 +89,7 @@ struct RawStudy {
 #[derive(Debug)]
 enum RawAxis {
     List(Vec<Spanned<toml::Value>>),
-    Table(RawAxisTable),
+    Table(Box<RawAxisTable>),
 }
 
 impl<'de> Deserialize<'de> for RawAxis {
@@ -118,7 +118,7 @@ impl<'de> Deserialize<'de> for RawAxis {
             // Read by the TOML deserializer itself: the fields keep their spans.
             fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<RawAxis, A::Error> {
                 RawAxisTable::deserialize(serde::de::value::MapAccessDeserializer::new(map))
-                    .map(RawAxis::Table)
+                    .map(|t| RawAxis::Table(Box::new(t)))
             }
         }
         d.deserialize_any(V)
