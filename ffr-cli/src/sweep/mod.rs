@@ -160,12 +160,20 @@ pub fn sweep(
     crate::output::check_outputs(&[("--out", &csv_path), ("--out", &svg_path)])?;
     let dask = match args.engine {
         Engine::Local => {
-            if args.scheduler.is_some() {
-                return Err("--scheduler goes with --engine dask".into());
+            let dask_only = [
+                ("--scheduler", args.scheduler.is_some()),
+                ("--python", args.python.is_some()),
+                ("--worker-ffr", args.worker_ffr.is_some()),
+            ];
+            if let Some((flag, _)) = dask_only.iter().find(|(_, given)| *given) {
+                return Err(format!("{flag} goes with --engine dask").into());
             }
             None
         }
         Engine::Dask => {
+            if args.workers.is_some() {
+                return Err("--workers sets the local engine's threads; with --engine dask the Dask workers' threads (dask worker --nthreads) set how many cases run at once".into());
+            }
             let scheduler = args
                 .scheduler
                 .clone()
