@@ -18,6 +18,9 @@ use std::process::{Command, Stdio};
 /// The driver script.
 pub const DRIVER: &str = include_str!("dask_driver.py");
 
+/// The start of the driver's line for a finished case (then its JSON).
+const CASE_LINE: &str = "FFR-CASE ";
+
 /// How to reach the cluster.
 #[derive(Clone, Debug)]
 pub struct DaskOptions {
@@ -84,10 +87,11 @@ pub fn run(
                 break;
             }
         };
-        if line.trim().is_empty() {
+        // Only the driver's own lines; anything else a library printed is not ours.
+        let Some(json) = line.strip_prefix(CASE_LINE) else {
             continue;
-        }
-        match task_result(study, n, &line) {
+        };
+        match task_result(study, n, json) {
             Ok(r) => {
                 let i = r.case;
                 progress.done(&super::run::summary_line(study, i, n, &r), !r.ok());

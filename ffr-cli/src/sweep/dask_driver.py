@@ -3,7 +3,8 @@
 # scheduler and submits one task per case; each task runs
 # `FFR sweep STUDY --case I --json` on its worker (the same ffr binary and
 # study, by absolute paths on a shared filesystem) and returns that
-# process's output. One JSON line per finished case goes to standard output,
+# process's output. One line per finished case goes to standard output,
+# `FFR-CASE ` and a JSON object (other lines are not ours),
 # for the ffr process that started this driver to check and assemble.
 #
 # argv: SCHEDULER FFR STUDY CASES CONNECT_TIMEOUT_S
@@ -54,7 +55,7 @@ def main():
             for i in range(cases)
         ]
         for f in as_completed(futures):
-            print(json.dumps(f.result()), flush=True)
+            print("FFR-CASE " + json.dumps(f.result()), flush=True)
     except Exception as e:
         fail(5, f"{type(e).__name__}: {e}")
     finally:
