@@ -116,7 +116,10 @@ pub fn run(args: &SweepArgs) -> Result<SweepSummary, Box<dyn std::error::Error>>
         summary.wall_s,
         cpu,
         match args.engine {
-            Engine::Local => format!("local, {} workers", workers(args)),
+            Engine::Local => match workers(args) {
+                1 => "local, 1 worker".to_string(),
+                w => format!("local, {w} workers"),
+            },
             Engine::Dask => format!("dask at {}", args.scheduler.as_deref().unwrap_or("?")),
         }
     )?;

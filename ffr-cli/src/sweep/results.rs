@@ -46,6 +46,9 @@ pub fn csv(study: &Study, rows: &[CaseResult]) -> Result<String, String> {
     String::from_utf8(bytes).map_err(|e| e.to_string())
 }
 
+/// Bytes of an existing file read to tell whether it is ours.
+const HEAD_BYTES: u64 = 64 << 10;
+
 /// A file in the output directory that `ffr sweep` may replace: one that
 /// does not exist, or one it wrote (`results.csv` whose header starts with
 /// `case,` and ends with `,cpu_s,status,message`; an SVG with the
@@ -63,14 +66,16 @@ pub fn check_ours(path: &Path) -> Result<(), String> {
     if !meta.is_file() {
         return Err(refuse());
     }
-    let mut head = vec![0u8; 4096];
-    let n = {
+    // The first line of a table of MAX_AXES keys and MAX_FIGURES names fits.
+    let mut head = Vec::new();
+    {
         use std::io::Read;
-        let mut f = std::fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        f.read(&mut head)
-            .map_err(|e| format!("{}: {e}", path.display()))?
-    };
-    let head = String::from_utf8_lossy(&head[..n]);
+        let f = std::fs::File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        f.take(HEAD_BYTES)
+            .read_to_end(&mut head)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    let head = String::from_utf8_lossy(&head);
     let ours = if path.extension().is_some_and(|e| e == "csv") {
         head.lines()
             .next()
