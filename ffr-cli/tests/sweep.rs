@@ -285,9 +285,23 @@ fn ranges_and_seeded_samples_are_reproducible() {
     .unwrap();
     assert_ne!(c.axes[2], a.axes[2]);
     assert_eq!(c.axes[3], a.axes[3]);
-    // The stream is ChaCha8 seeded from the seed: these values are the same
-    // on every platform and release (a change of generator would show here).
-    assert_eq!(ramp, sweep::cases::uniform(10.0, 20.0, 5, 1));
+    // The stream is ChaCha8 seeded from the seed (rand_chacha 0.9,
+    // rand_distr 0.5): the same values on every platform. Pinned here, so
+    // that a change of generator or of sampling shows as a failure.
+    assert_eq!(
+        ramp,
+        [
+            14.02485663664848,
+            10.803837089297819,
+            15.965601809348549,
+            12.193245804838,
+            12.836905913037375
+        ]
+    );
+    assert_eq!(
+        floats(3),
+        [69477981238.35103, 70334070610.23181, 68789133316.72897]
+    );
 }
 
 #[test]
@@ -369,6 +383,35 @@ fn files_that_are_not_ours_are_kept() {
         "dask",
     ]);
     assert!(!ok && err.contains("needs --scheduler"), "{err}");
+    // Each engine's flags are refused with the other.
+    let o = out.to_str().unwrap();
+    let study = s.to_str().unwrap();
+    for (extra, needle) in [
+        (
+            vec!["--python", "python3"],
+            "--python goes with --engine dask",
+        ),
+        (
+            vec!["--scheduler", "tcp://127.0.0.1:9"],
+            "--scheduler goes with --engine dask",
+        ),
+        (
+            vec![
+                "--engine",
+                "dask",
+                "--scheduler",
+                "tcp://127.0.0.1:9",
+                "--workers",
+                "2",
+            ],
+            "--workers sets the local engine's threads",
+        ),
+    ] {
+        let mut a = vec!["sweep", study, "--out", o];
+        a.extend(extra);
+        let (ok, _, err) = ffr(&a);
+        assert!(!ok && err.contains(needle), "{err}");
+    }
 }
 
 #[test]
