@@ -8,7 +8,7 @@ use crate::benchmarks::spin_up::interpolate;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Reference {
     /// Where it comes from (one line).
-    pub source: &'static str,
+    pub source: String,
     /// Column names after `t`.
     pub columns: Vec<String>,
     /// Times (s).
@@ -22,7 +22,7 @@ const OMEGA10: &str = include_str!("../../bench/reference/spin_up_omega10.csv");
 const PRECONE4: &str = include_str!("../../bench/reference/spin_up_precone_omega4.csv");
 const GRAVITY4: &str = include_str!("../../bench/reference/spin_up_gravity_omega4.csv");
 
-fn parse(text: &str, source: &'static str) -> Reference {
+fn parse(text: &str, source: &str) -> Reference {
     let mut lines = text.lines();
     let header: Vec<String> = lines
         .next()
@@ -40,7 +40,7 @@ fn parse(text: &str, source: &'static str) -> Reference {
         }
     }
     Reference {
-        source,
+        source: source.to_string(),
         columns: header[1..].to_vec(),
         t,
         values,
@@ -76,7 +76,87 @@ pub fn spin_up_gravity() -> Reference {
     )
 }
 
+/// The most bytes a reference CSV read by [`Reference::read`] may have.
+pub const MAX_REFERENCE_BYTES: u64 = 64 << 20;
+
 impl Reference {
+    /// A reference history from a CSV file: a header `t,NAME,…`, then rows
+    /// of finite numbers, times strictly increasing. Errors name
+    /// `file:line` (or the file) and the problem.
+    pub fn read(path: &std::path::Path) -> Result<Reference, String> {
+        let file = ffr::codegen::sanitize::snippet(&path.display().to_string(), usize::MAX);
+        let bytes = ffr::codegen::limits::read_input(
+            path,
+            MAX_REFERENCE_BYTES,
+            "reference CSV",
+            "MAX_REFERENCE_BYTES",
+        )
+        .map_err(|m| format!("{file}: {m}"))?;
+        let mut rd = csv::ReaderBuilder::new()
+            .has_headers(true)
+            .trim(csv::Trim::All)
+            .from_reader(bytes.as_slice());
+        let header: Vec<String> = rd
+            .headers()
+            .map_err(|e| format!("{file}:1: {e}"))?
+            .iter()
+            .map(str::to_string)
+            .collect();
+        if header.len() < 2 || header[0] != "t" {
+            return Err(format!(
+                "{file}:1: the header must be `t` and one name per column (`t,tip_transverse`)"
+            ));
+        }
+        let mut t: Vec<f64> = Vec::new();
+        let mut values = vec![Vec::new(); header.len() - 1];
+        for rec in rd.records() {
+            let rec = rec.map_err(|e| {
+                let line = e.position().map_or(0, |p| p.line());
+                format!("{file}:{line}: {e}")
+            })?;
+            let line = rec.position().map_or(0, |p| p.line());
+            if rec.len() != header.len() {
+                return Err(format!(
+                    "{file}:{line}: {} fields, the header has {}",
+                    rec.len(),
+                    header.len()
+                ));
+            }
+            for (i, f) in rec.iter().enumerate() {
+                let x: f64 = f
+                    .parse()
+                    .ok()
+                    .filter(|x: &f64| x.is_finite())
+                    .ok_or_else(|| {
+                        format!(
+                            "{file}:{line}: `{}` in column `{}` is not a finite number",
+                            ffr::codegen::sanitize::snippet(f, 40),
+                            header[i]
+                        )
+                    })?;
+                if i == 0 {
+                    if t.last().is_some_and(|&p| !(x > p)) {
+                        return Err(format!(
+                            "{file}:{line}: t = {x} does not come after the previous time"
+                        ));
+                    }
+                    t.push(x);
+                } else {
+                    values[i - 1].push(x);
+                }
+            }
+        }
+        if t.is_empty() {
+            return Err(format!("{file}: no rows after the header"));
+        }
+        Ok(Reference {
+            source: file,
+            columns: header[1..].to_vec(),
+            t,
+            values,
+        })
+    }
+
     /// The column named `name`.
     pub fn column(&self, name: &str) -> Option<&[f64]> {
         self.columns

@@ -153,8 +153,41 @@ fn failed_runs_are_reported_and_peers_compared() {
         peers: peers.clone(),
         progress: Progress::Silent,
         command: "test".into(),
+        workers: 2,
     };
     let s = run_grid(&grid, &opts).unwrap();
+    // One worker gives the same points and failures (the runs on a pool
+    // of two threads), timing aside.
+    let one = run_grid(
+        &grid,
+        &Options {
+            out: out.join("report1"),
+            workers: 1,
+            ..opts.clone()
+        },
+    )
+    .unwrap();
+    let key = |s: &ffr_cli::report::ReportSummary| {
+        (
+            s.points
+                .iter()
+                .map(|p| {
+                    (
+                        p.scene.clone(),
+                        p.method.clone(),
+                        p.elements,
+                        p.dt.to_bits(),
+                        p.error.to_bits(),
+                    )
+                })
+                .collect::<Vec<_>>(),
+            s.failures
+                .iter()
+                .map(|f| (f.method.clone(), f.reason.clone()))
+                .collect::<Vec<_>>(),
+        )
+    };
+    assert_eq!(key(&one), key(&s));
     assert_eq!(s.points.len(), 1);
     assert_eq!(s.points[0].reps, 2);
     assert_eq!(s.failures.len(), 1);

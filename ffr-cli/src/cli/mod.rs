@@ -18,6 +18,7 @@ pub use linearize::{
     LinearizeArgs,
 };
 pub use modes::{export, modes, modes_json, reducible};
+pub(crate) use run::check_finite_columns;
 pub use run::{run_scene, MAX_ECHO_CHARS};
 pub use spin_up::{spin_up, SpinUpArgs};
 
@@ -114,6 +115,11 @@ pub enum Command {
     /// Work-precision report of the benchmark scenes (report.md, points.csv,
     /// one SVG per scene; see docs/report.md).
     Report(crate::report::ReportArgs),
+    /// A scene over parameter axes (lists, ranges, seeded samples): the
+    /// figures of every case in DIR/results.csv and a plot, on every local
+    /// core or a Dask cluster (exits non-zero if a case failed; see
+    /// docs/sweep.md).
+    Sweep(crate::sweep::SweepArgs),
     /// Stiff and extreme cases, each with its check (stability.md; exits
     /// non-zero if a case fails; see docs/stability.md).
     Stability(crate::stability::StabilityArgs),
@@ -292,6 +298,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         Some(Command::Linearize(args)) => linearize(&args).map(|_| ()),
         Some(Command::Campbell(args)) => campbell(&args).map(|_| ()),
         Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
+        Some(Command::Sweep(args)) => crate::sweep::run(&args).map(|_| ()),
         Some(Command::Stability(args)) => crate::stability::run(&args).map(|_| ()),
         Some(Command::Run {
             scene,

@@ -98,7 +98,7 @@ pub const MAX_ECHO_CHARS: usize = 200;
 
 /// Every time and output value finite, checked before anything is written
 /// or printed; the error names the output and the time.
-pub(super) fn check_finite_columns(
+pub(crate) fn check_finite_columns(
     t: &[f64],
     names: &[&str],
     cols: &[&[f64]],

@@ -29,6 +29,8 @@ pub struct Input<'a> {
     pub sim_cpu_s: f64,
     /// Load average before and after the runs.
     pub load: (Option<String>, Option<String>),
+    /// Runs at once.
+    pub workers: usize,
 }
 
 /// A short statement of a scene's error, for axis labels.
@@ -223,9 +225,10 @@ pub fn report(inp: &Input) -> String {
     let load = |l: &Option<String>| l.clone().unwrap_or_else(|| "unknown".into());
     let _ = writeln!(
         s,
-        "- **This report**: {} s wall for the runs and diagrams, {} s CPU in the runs (every repetition); {} CPUs available, load average {} before and {} after (`/proc/loadavg`; other work on a shared machine slows runs and scatters their times).",
+        "- **This report**: {} s wall for the runs and diagrams, {} s CPU in the runs (every repetition), {} runs at once (each timed by its own thread's CPU clock); {} CPUs available, load average {} before and {} after (`/proc/loadavg`; other work on a shared machine slows runs and scatters their times).",
         sig(inp.wall_s),
         sig(inp.sim_cpu_s),
+        inp.workers,
         cpus,
         load(&inp.load.0),
         load(&inp.load.1)

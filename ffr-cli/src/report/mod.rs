@@ -3,7 +3,8 @@
 //! work-precision diagrams and the IVP test set's solver reports.
 //!
 //! Every run of a [`grid::Grid`] (scene, method family, elements, time
-//! step) is set up with the library's scene modules ([`crate::benchmarks`]),
+//! step; on every local core by default, through `ffr sweep`'s local
+//! engine, [`crate::sweep::par_map`]) is set up with the library's scene modules ([`crate::benchmarks`]),
 //! integrated under a CPU clock ([`measure::thread_cpu_seconds`]; the
 //! minimum over repetitions) and measured against the best available
 //! reference ([`grid::ErrorKind`]). The output directory receives
@@ -49,6 +50,10 @@ pub struct ReportArgs {
     /// spin-up-3d, slider-crank, pendulum, free-floating).
     #[arg(long, value_delimiter = ',')]
     pub scenes: Vec<String>,
+    /// Runs at once, each on its own thread (default: every local core;
+    /// CPU times are still per run, on the run's thread).
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub workers: Option<u16>,
 }
 
 pub use crate::progress::Progress;
@@ -65,6 +70,8 @@ pub struct Options {
     pub progress: Progress,
     /// The command line that made the report (quoted in report.md).
     pub command: String,
+    /// Runs at once (the local engine of `ffr sweep`; at least 1).
+    pub workers: usize,
 }
 
 /// What a report run produced.
@@ -131,6 +138,9 @@ pub fn run(args: &ReportArgs) -> Result<ReportSummary, Box<dyn std::error::Error
         peers: args.peers.clone(),
         progress: Progress::Auto,
         command,
+        workers: args
+            .workers
+            .map_or_else(crate::sweep::local_cores, |w| w as usize),
     };
     let s = run_grid(&grid, &opts)?;
     crate::outln!(
@@ -184,36 +194,43 @@ pub fn run_grid(grid: &Grid, opts: &Options) -> Result<ReportSummary, Box<dyn st
     let load_before = load_average();
     let peers = data::read_peers(&opts.peers);
     let reporter = Reporter::new(opts.progress, grid.cases.len());
+    // Every case on the local engine of `ffr sweep` (a pool of
+    // `opts.workers` threads), in grid order; a case runs whole on one
+    // thread, whose CPU clock times it.
+    let n = grid.cases.len();
+    let outcomes = crate::sweep::par_map(
+        n,
+        opts.workers,
+        &reporter,
+        |i| {
+            let c0 = measure::thread_cpu_seconds();
+            let outcome = measure::measure(&grid.cases[i], grid.reps, grid.rep_budget);
+            (outcome, measure::thread_cpu_seconds() - c0)
+        },
+        |i, (outcome, _)| {
+            let case = &grid.cases[i];
+            let what = match outcome {
+                Outcome::Point {
+                    cpu_s, error, reps, ..
+                } => format!("{cpu_s:.4} s CPU (min of {reps}), error {error:.3e}"),
+                Outcome::Failed { reason, .. } => format!("FAILED: {reason}"),
+            };
+            let line = format!(
+                "[{}/{n}] {} {} elements {} dt {}: {what}",
+                i + 1,
+                case.scene,
+                case.method.name(),
+                case.elements,
+                case.dt
+            );
+            (line, matches!(outcome, Outcome::Failed { .. }))
+        },
+    )?;
     let mut points = Vec::new();
     let mut failures = Vec::new();
     let mut sim_cpu = 0.0;
-    for (i, case) in grid.cases.iter().enumerate() {
-        reporter.start(format!(
-            "{} {} n={} dt={}",
-            case.scene,
-            case.method.name(),
-            case.elements,
-            case.dt
-        ));
-        let c0 = measure::thread_cpu_seconds();
-        let outcome = measure::measure(case, grid.reps, grid.rep_budget);
-        sim_cpu += measure::thread_cpu_seconds() - c0;
-        let what = match &outcome {
-            Outcome::Point {
-                cpu_s, error, reps, ..
-            } => format!("{cpu_s:.4} s CPU (min of {reps}), error {error:.3e}"),
-            Outcome::Failed { reason, .. } => format!("FAILED: {reason}"),
-        };
-        let line = format!(
-            "[{}/{}] {} {} elements {} dt {}: {what}",
-            i + 1,
-            grid.cases.len(),
-            case.scene,
-            case.method.name(),
-            case.elements,
-            case.dt
-        );
-        reporter.done(&line, matches!(outcome, Outcome::Failed { .. }));
+    for (case, (outcome, cpu)) in grid.cases.iter().zip(outcomes) {
+        sim_cpu += cpu;
         match outcome {
             Outcome::Point {
                 cpu_s, error, reps, ..
@@ -282,6 +299,7 @@ pub fn run_grid(grid: &Grid, opts: &Options) -> Result<ReportSummary, Box<dyn st
         wall_s,
         sim_cpu_s: sim_cpu,
         load: (load_before, load_after),
+        workers: opts.workers,
     });
     texts.push(md);
     // All files or none: every one staged, then all renamed.
