@@ -1,10 +1,12 @@
 """`Scene.run` releases the GIL: other Python threads go on during a run,
 and two runs in two threads take less time than one after the other."""
 
+import hashlib
 import threading
 import time
 
 import numpy as np
+import pytest
 
 import ffr
 from conftest import SCENES
@@ -40,41 +42,60 @@ def test_other_threads_run_during_a_run():
     assert ticks >= 50, ticks
 
 
+def timed_pair(f, g):
+    """(serial, concurrent) wall times of f and g: one after the other, then
+    in two threads."""
+    t = time.perf_counter()
+    f(), g()
+    serial = time.perf_counter() - t
+    ths = [threading.Thread(target=h) for h in (f, g)]
+    t = time.perf_counter()
+    for th in ths:
+        th.start()
+    for th in ths:
+        th.join()
+    return serial, time.perf_counter() - t
+
+
+def hashing():
+    """A control that certainly runs without the GIL: hashlib releases it
+    for large buffers. About as long as a run."""
+    data = b"\x5a" * (64 << 20)
+    for _ in range(3):
+        hashlib.sha256(data).digest()
+
+
 def test_two_threads_run_two_scenes_faster_than_serially():
     a, b = long_scene(), long_scene()
     b.set("joints.0.drive.omega", 2.0)
+    ra, rb = a.run(), b.run()
+    out = {}
 
-    def serial():
-        t = time.perf_counter()
-        ra, rb = a.run(), b.run()
-        return time.perf_counter() - t, (ra, rb)
-
-    def concurrent():
-        out = {}
-        ths = [threading.Thread(target=lambda k=k, s=s: out.__setitem__(k, s.run())) for k, s in (("a", a), ("b", b))]
-        t = time.perf_counter()
-        for th in ths:
-            th.start()
-        for th in ths:
-            th.join()
-        return time.perf_counter() - t, (out["a"], out["b"])
+    def run(k, s):
+        out[k] = s.run()
 
     # Best of three of each, interleaved, so that a burst of other load on
     # the machine does not decide the comparison.
-    ser, con = [], []
+    ser, con, ctrl_ser, ctrl_con = [], [], [], []
     for _ in range(3):
-        ts, rs = serial()
-        tc, rc = concurrent()
+        ts, tc = timed_pair(hashing, hashing)
+        ctrl_ser.append(ts)
+        ctrl_con.append(tc)
+        ts, tc = timed_pair(lambda: run("a", a), lambda: run("b", b))
         ser.append(ts)
         con.append(tc)
         # The same results whichever way they ran.
-        for x, y in zip(rs, rc):
-            assert np.array_equal(x["tip_transverse"], y["tip_transverse"])
+        assert np.array_equal(out["a"]["tip_transverse"], ra["tip_transverse"])
+        assert np.array_equal(out["b"]["tip_transverse"], rb["tip_transverse"])
+    control = min(ctrl_con) / min(ctrl_ser)
+    if control > 0.8:
+        # Other work holds the cores: not even GIL-free hashing runs in
+        # parallel now, so no ratio can show it (the test above still
+        # checks the release).
+        pytest.skip(f"no free second core now: two hashing threads take {control:.2f} of serial")
     # On 2 free cores (CI's machine) two runs without the GIL take about
-    # half the serial time (0.50 measured); with the GIL held they would
-    # take the serial time or more (ratio >= 1). 0.8 leaves room for the
-    # second core being partly busy and for the threads' start-up, and
-    # still fails if the runs were serialized. (With both cores taken by
-    # other work no ratio can show parallelism: the test above does not
-    # depend on free cores.)
-    assert min(con) < 0.8 * min(ser), (con, ser)
+    # half the serial time (0.50 measured, as the control); with the GIL
+    # held they would take the serial time or more (ratio >= 1). 0.8 leaves
+    # room for the second core being partly busy and for the threads'
+    # start-up, and still fails if the runs were serialized.
+    assert min(con) < 0.8 * min(ser), (con, ser, control)
