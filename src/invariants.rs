@@ -70,3 +70,52 @@ pub fn check_invariants(
     }
     Ok(())
 }
+
+/// A body's invariants at its parameters, checked ([`check_invariants`]):
+/// what `ffr invariants` prints.
+pub struct BodyInvariants {
+    /// The body, as its layout describes it.
+    pub description: String,
+    /// The invariants.
+    pub invariants: Invariants,
+    /// The elastic coordinates' labels (`uy_1`, …).
+    pub dofs: Vec<String>,
+}
+
+/// The invariants of the body `beam` describes, from its element kernels
+/// (compiled or on tapes): the parameters checked (valid, and the ones the
+/// kernels use positive), every invariant checked.
+pub fn of_beam(beam: &crate::kernels::BeamSpec) -> crate::Result<BodyInvariants> {
+    use crate::codegen::limits::check_params;
+    use crate::runtime::Body;
+    check_params(&beam.params, &[])?;
+    let kernels = beam.kernels()?;
+    let used = crate::runtime::ElementKernels::info(&kernels)
+        .params_used
+        .to_vec();
+    check_params(&beam.params, &used)?;
+    let b = beam.body()?;
+    let invariants = b.invariants();
+    let dofs = b.layout().labels.clone();
+    check_invariants(&invariants, &dofs, beam.options.formalism)?;
+    Ok(BodyInvariants {
+        description: b.layout().description.clone(),
+        invariants,
+        dofs,
+    })
+}
+
+/// The invariants of the flexible body `name` of a built scene, as it runs
+/// there (its shape, mesh, sections and parameters), checked.
+pub fn of_scene_body(scene: &crate::scene::Scene, name: &str) -> crate::Result<BodyInvariants> {
+    let (id, f) = scene.flex_body(name)?;
+    let b = scene.system.body(id);
+    let invariants = b.invariants();
+    let dofs = b.layout().labels.clone();
+    check_invariants(&invariants, &dofs, f.options.formalism)?;
+    Ok(BodyInvariants {
+        description: b.layout().description.clone(),
+        invariants,
+        dofs,
+    })
+}

@@ -104,6 +104,22 @@ pub struct Params {
     pub j: f64,
 }
 
+impl Params {
+    /// The command line's defaults (`ffr invariants`, `modes`, `export`
+    /// and the Python package's): a 1 m steel bar of 10 mm × 10 mm square
+    /// section.
+    pub const STEEL_BAR: Params = Params {
+        length: 1.0,
+        rho: 7850.0,
+        area: 1e-4,
+        iy: 1e-8 / 12.0,
+        iz: 1e-8 / 12.0,
+        e: 2.1e11,
+        g: 8.1e10,
+        j: 1.406e-8,
+    };
+}
+
 /// A parameter value that is not physically valid.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ParamError {

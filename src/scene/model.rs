@@ -41,3 +41,30 @@ pub struct Scene {
     /// What the loader folded in or left out (one line each).
     pub notes: Vec<String>,
 }
+
+impl Scene {
+    /// The flexible body `name` (its id in the system and how it was
+    /// made); a rigid or unknown body is an error naming the flexible ones,
+    /// prefixed with the scene's file.
+    pub fn flex_body(&self, name: &str) -> Result<(crate::runtime::BodyId, &FlexSpec), String> {
+        let q = crate::runtime::spec::text::quoted;
+        let Some(f) = self.flex.iter().find(|f| f.name == name) else {
+            let flexible: Vec<&str> = self.flex.iter().map(|f| f.name.as_str()).collect();
+            return Err(format!(
+                "{}: no flexible body `{}`; the scene's flexible bodies are {}",
+                self.origin,
+                q(name),
+                if flexible.is_empty() {
+                    "none".to_string()
+                } else {
+                    flexible.join(", ")
+                }
+            ));
+        };
+        let id = self
+            .system
+            .body_id(name)
+            .expect("a flexible body of the scene is in its system");
+        Ok((id, f))
+    }
+}

@@ -87,32 +87,33 @@ pub struct SceneBodyArgs {
 }
 
 /// Parameter values (SI units); a shape that does not use one ignores it.
-/// Defaults: a 1 m steel bar of 10 mm × 10 mm square section.
+/// Defaults: a 1 m steel bar of 10 mm × 10 mm square section
+/// ([`Params::STEEL_BAR`]).
 #[derive(Args, Debug, Clone)]
 pub struct ParamArgs {
     /// Body length L (m).
-    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Params::STEEL_BAR.length, allow_hyphen_values = true)]
     pub length: f64,
     /// Density ρ (kg/m³).
-    #[arg(long, default_value_t = 7850.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Params::STEEL_BAR.rho, allow_hyphen_values = true)]
     pub rho: f64,
     /// Area A (m²).
-    #[arg(long, default_value_t = 1e-4, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Params::STEEL_BAR.area, allow_hyphen_values = true)]
     pub area: f64,
     /// I_y = ∫z² dA (m⁴).
-    #[arg(long, default_value_t = 1e-8 / 12.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Params::STEEL_BAR.iy, allow_hyphen_values = true)]
     pub iy: f64,
     /// I_z = ∫y² dA (m⁴).
-    #[arg(long, default_value_t = 1e-8 / 12.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Params::STEEL_BAR.iz, allow_hyphen_values = true)]
     pub iz: f64,
     /// Young's modulus E (Pa).
-    #[arg(long, default_value_t = 2.1e11, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Params::STEEL_BAR.e, allow_hyphen_values = true)]
     pub e: f64,
     /// Shear modulus G (Pa).
-    #[arg(long, default_value_t = 8.1e10, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Params::STEEL_BAR.g, allow_hyphen_values = true)]
     pub g: f64,
     /// Torsion constant J (m⁴).
-    #[arg(long, default_value_t = 1.406e-8, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = Params::STEEL_BAR.j, allow_hyphen_values = true)]
     pub j: f64,
 }
 

@@ -24,12 +24,10 @@ pub use spin_up::{spin_up, SpinUpArgs};
 
 use crate::output;
 use clap::{Parser, Subcommand};
-use ffr::codegen::limits::{check_literals, check_params};
+use ffr::codegen::limits::check_literals;
 use ffr::codegen::sanitize::check_type_name;
 use ffr::codegen::{generate_kernels, BodySpec, EmitOptions, Shape};
-use ffr::invariants::check_invariants;
 use ffr::runtime::spec::Reference;
-use ffr::runtime::Body;
 use invariants::print_summary;
 use std::path::{Path, PathBuf};
 
@@ -188,38 +186,30 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             json,
             ..
         }) => {
-            let (scene, id, f) = modes::scene_body(&path, &name)?;
-            let b = scene.system.body(id);
-            let (inv, labels) = (b.invariants(), &b.layout().labels);
-            check_invariants(&inv, labels, f.options.formalism)?;
+            let scene = ffr::scene::load(&path)?;
+            let b = ffr::invariants::of_scene_body(&scene, &name)?;
             if json {
-                crate::outln!("{}", serde_json::to_string(&invariants_json(&inv, labels))?)?;
+                crate::outln!(
+                    "{}",
+                    serde_json::to_string(&invariants_json(&b.invariants, &b.dofs))?
+                )?;
             } else {
-                print_summary(&b.layout().description, &inv, labels)?;
+                print_summary(&b.description, &b.invariants, &b.dofs)?;
             }
             Ok(())
         }
         Some(Command::Invariants {
             body, params, json, ..
         }) => {
-            let p = params.values();
-            check_params(&p, &[])?;
-            let beam = body.beam(p)?;
-            let kernels = beam.kernels()?;
-            let used = ffr::runtime::ElementKernels::info(&kernels)
-                .params_used
-                .to_vec();
-            check_params(&p, &used)?;
-            let b = beam.body()?;
-            let inv = b.invariants();
-            check_invariants(&inv, &b.layout().labels, beam.options.formalism)?;
+            let beam = body.beam(params.values())?;
+            let b = ffr::invariants::of_beam(&beam)?;
             if json {
                 crate::outln!(
                     "{}",
-                    serde_json::to_string(&invariants_json(&inv, &b.layout().labels))?
+                    serde_json::to_string(&invariants_json(&b.invariants, &b.dofs))?
                 )?;
             } else {
-                print_summary(&b.layout().description, &inv, &b.layout().labels)?;
+                print_summary(&b.description, &b.invariants, &b.dofs)?;
             }
             Ok(())
         }

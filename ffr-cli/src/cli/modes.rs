@@ -59,46 +59,11 @@ pub fn modes_json(body: &ReducibleBody, basis: &ModalBasis) -> Value {
     })
 }
 
-/// The scene at `path` and its flexible body `name` (its id and how it was
-/// made); a rigid or unknown body is an error naming the flexible ones.
-pub fn scene_body(
-    path: &Path,
-    name: &str,
-) -> Result<
-    (
-        ffr::scene::Scene,
-        ffr::runtime::BodyId,
-        ffr::scene::FlexSpec,
-    ),
-    Box<dyn Error>,
-> {
-    let scene = ffr::scene::load(path)?;
-    let flexible: Vec<&str> = scene.flex.iter().map(|f| f.name.as_str()).collect();
-    let q = ffr::runtime::spec::text::quoted;
-    let Some(f) = scene.flex.iter().find(|f| f.name == name).cloned() else {
-        return Err(format!(
-            "{}: no flexible body `{}`; the scene's flexible bodies are {}",
-            path.display(),
-            q(name),
-            if flexible.is_empty() {
-                "none".to_string()
-            } else {
-                flexible.join(", ")
-            }
-        )
-        .into());
-    };
-    let id = scene
-        .system
-        .body_id(name)
-        .expect("a flexible body of the scene is in its system");
-    Ok((scene, id, f))
-}
-
 /// The body of `--scene FILE --body NAME` ([`ReducibleBody::of_scene_body`]).
 fn reducible_from_scene(path: &Path, name: &str) -> Result<ReducibleBody, Box<dyn Error>> {
-    let (scene, id, f) = scene_body(path, name)?;
-    Ok(ReducibleBody::of_scene_body(&f, scene.system.body(id))?)
+    let scene = ffr::scene::load(path)?;
+    let (id, f) = scene.flex_body(name)?;
+    Ok(ReducibleBody::of_scene_body(f, scene.system.body(id))?)
 }
 
 /// `ffr modes`: print the frequencies (or, with `json`, the whole reduction).

@@ -1,0 +1,186 @@
+"""Type stubs of the extension module ffr._ffr (re-exported by ffr)."""
+
+import os
+from typing import Dict, Iterator, List, Literal, Optional, Sequence, Tuple, TypedDict, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+FloatArray = npt.NDArray[np.float64]
+#: A scene value: what a scene file can hold at a key.
+SceneValue = Union[bool, int, float, str, Sequence["SceneValue"], Dict[str, "SceneValue"]]
+#: A scene: an ffr.Scene or a scene file's path.
+SceneLike = Union["Scene", str, "os.PathLike[str]"]
+
+class FfrError(Exception):
+    """An error of ffr: the message names the problem and, for input from a
+    file, where (``file:line:col: …``)."""
+
+class SceneError(FfrError):
+    """A scene that does not load, or a key or value that does not fit it:
+    the loader's located message."""
+
+class SimulationError(FfrError):
+    """A run or an analysis that failed (no convergence, divergence, a
+    singular matrix): why, and when."""
+
+class Scene:
+    """A scene file's text with the values set so far, and the scene built
+    from it (checked and ready to run)."""
+
+    @staticmethod
+    def load(path: Union[str, "os.PathLike[str]"]) -> "Scene":
+        """Read a scene file (relative shape files against its directory);
+        raises SceneError with the loader's located message."""
+    @staticmethod
+    def from_str(
+        text: str, file: str = "<string>", base: Optional[Union[str, "os.PathLike[str]"]] = None
+    ) -> "Scene":
+        """A scene from its text; ``file`` names it in errors, ``base``
+        (default: the current directory) resolves relative shape files."""
+    def set(self, key: str, value: SceneValue) -> None:
+        """Set the value at a dotted key (``bodies.beam.params.e``,
+        ``joints.0.drive.omega``, ``t_end``); the scene is resolved and
+        built again, and a key or value it refuses raises SceneError (the
+        scene is left as it was)."""
+    def update(self, values: Dict[str, SceneValue]) -> None:
+        """Set several dotted keys at once, checked together."""
+    def get(self, key: str) -> Optional[SceneValue]:
+        """The value at a dotted key, or None if the scene has none there."""
+    @property
+    def file(self) -> str:
+        """The file's name as errors give it."""
+    @property
+    def text(self) -> str:
+        """The scene's text as it reads now (the file with the values set)."""
+    @property
+    def overrides(self) -> List[Tuple[str, SceneValue]]:
+        """The keys set so far and their values, in order."""
+    def run(self) -> "RunResult":
+        """Run the scene with the GIL released; raises SimulationError if
+        the run stops early."""
+
+class RunResult:
+    """A scene run: each output by name as a numpy array, the times ``t``,
+    and the run's statistics."""
+
+    @property
+    def t(self) -> FloatArray: ...
+    steps: int
+    newton_iterations: int
+    jacobians: int
+    restarts: int
+    splits: int
+    #: Wall time of the simulation (s), as the library measures it.
+    wall: float
+    def keys(self) -> List[str]: ...
+    def __getitem__(self, name: str) -> FloatArray: ...
+    def __contains__(self, name: str) -> bool: ...
+    def __len__(self) -> int: ...
+    def __iter__(self) -> Iterator[str]: ...
+
+class Invariants(TypedDict):
+    mass: float
+    St0: FloatArray
+    Sbar: FloatArray
+    Skl: Dict[str, FloatArray]
+    Ikl: Dict[str, FloatArray]
+    theta: Dict[str, float]
+    mff: FloatArray
+    Kff: FloatArray
+    dofs: List[str]
+
+class Modes(TypedDict):
+    body: str
+    reduction: str
+    omega: FloatArray
+    hz: FloatArray
+    labels: List[str]
+    dofs: List[str]
+    phi: FloatArray
+    modal_mass: FloatArray
+    modal_stiffness: FloatArray
+    invariants: Invariants
+
+class Linear(TypedDict):
+    states: List[str]
+    inputs: List[str]
+    outputs: List[str]
+    A: FloatArray
+    B: FloatArray
+    C: FloatArray
+    D: FloatArray
+    eigenvalues: npt.NDArray[np.complex128]
+
+class CampbellMode(TypedDict):
+    omega: float
+    hz: float
+    zeta: float
+    label: str
+
+class Campbell(TypedDict):
+    speeds: FloatArray
+    joint: int
+    modes: List[List[CampbellMode]]
+
+def invariants(
+    shape: Optional[str] = None,
+    elements: Optional[int] = None,
+    reference: Optional[Literal["clamped", "pinned", "free"]] = None,
+    formalism: Optional[Literal["consistent", "lumped"]] = None,
+    *,
+    length: Optional[float] = None,
+    rho: Optional[float] = None,
+    area: Optional[float] = None,
+    iy: Optional[float] = None,
+    iz: Optional[float] = None,
+    e: Optional[float] = None,
+    g: Optional[float] = None,
+    j: Optional[float] = None,
+    tape: bool = False,
+    scene: Optional[SceneLike] = None,
+    body: Optional[str] = None,
+) -> Invariants:
+    """A body's invariants at its parameters, keyed like ``ffr invariants
+    --json``: a beam (defaults: beam3, 1 element, clamped, consistent, the
+    command line's 1 m steel bar) or a scene's flexible body."""
+
+def modes(
+    shape: Optional[str] = None,
+    elements: Optional[int] = None,
+    reference: Optional[Literal["clamped", "pinned", "free"]] = None,
+    formalism: Optional[Literal["consistent", "lumped"]] = None,
+    *,
+    count: Optional[int] = None,
+    boundary: Sequence[int] = (),
+    length: Optional[float] = None,
+    rho: Optional[float] = None,
+    area: Optional[float] = None,
+    iy: Optional[float] = None,
+    iz: Optional[float] = None,
+    e: Optional[float] = None,
+    g: Optional[float] = None,
+    j: Optional[float] = None,
+    scene: Optional[SceneLike] = None,
+    body: Optional[str] = None,
+) -> Modes:
+    """A body's modes (modal truncation, or Craig–Bampton with
+    ``boundary``), keyed like ``ffr modes --json``."""
+
+def linearize(
+    scene: SceneLike,
+    at: Union[float, Literal["static"], None] = None,
+    inputs: Optional[Sequence[str]] = None,
+    outputs: Optional[Sequence[str]] = None,
+) -> Linear:
+    """A scene's linear model about its state at time ``at`` (default 0)
+    or its static equilibrium, as ``ffr linearize --json`` (eigenvalues
+    complex)."""
+
+def campbell(
+    scene: SceneLike, speeds: Sequence[float], joint: Optional[int] = None, count: int = 10
+) -> Campbell:
+    """A Campbell diagram, as ``ffr campbell --json`` (and the joint,
+    1-based)."""

@@ -1,0 +1,803 @@
+//! The Python package `ffr` (module `ffr._ffr`, re-exported by
+//! `ffr/__init__.py`): scene files loaded, set by dotted keys
+//! ([`ffr::scene::SceneText`]) and run with the GIL released, their outputs
+//! as numpy arrays; a body's modes and invariants; a scene's linear model
+//! and Campbell diagram. Every computation is the library's (the same as
+//! the command line's); this crate converts arguments and results and maps
+//! errors to `ffr.SceneError`, `ffr.SimulationError` and their base
+//! `ffr.FfrError`, with the messages the command line prints.
+//!
+//! Built by maturin (`python/pyproject.toml`, feature `extension-module`);
+//! the API is in `docs/python.md` and `ffr/_ffr.pyi`.
+
+use ffr::codegen::modal::ModalBasis;
+use ffr::kernels::BeamSpec;
+use ffr::modal::{to_runtime, ReducibleBody};
+use ffr::runtime::nalgebra::DMatrix;
+use ffr::runtime::spec::{Formalism, KernelOptions, Params, Reference};
+use ffr::runtime::Invariants;
+use ffr::scene::linear::At;
+use ffr::scene::{SceneText, SceneValue};
+use numpy::{PyArray1, PyArray2, PyUntypedArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyException, PyKeyError, PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+create_exception!(
+    ffr,
+    FfrError,
+    PyException,
+    "An error of ffr: the message names the problem and, for input from a file, where (`file:line:col: …`)."
+);
+create_exception!(
+    ffr,
+    SceneError,
+    FfrError,
+    "A scene that does not load, or a key or value that does not fit it: the loader's located message."
+);
+create_exception!(
+    ffr,
+    SimulationError,
+    FfrError,
+    "A run or an analysis that failed (no convergence, divergence, a singular matrix): why, and when."
+);
+
+/// The library's error as the Python exception of its kind: a scene
+/// error as `SceneError`, a runtime failure as `SimulationError`,
+/// anything else as `FfrError` (`file` prefixed, as the command line
+/// prefixes it, when the error has no place of its own).
+fn py_err(e: ffr::Error, file: Option<&str>) -> PyErr {
+    let prefixed = |m: String| match file {
+        Some(f) => format!("{f}: {m}"),
+        None => m,
+    };
+    match e {
+        ffr::Error::Scene(s) => SceneError::new_err(s.to_string()),
+        ffr::Error::Runtime(r) => SimulationError::new_err(prefixed(r.to_string())),
+        other => FfrError::new_err(prefixed(other.to_string())),
+    }
+}
+
+fn scene_err(e: impl std::fmt::Display) -> PyErr {
+    SceneError::new_err(e.to_string())
+}
+
+/// A Python value as a scene value: bool, int, float, str, a list or tuple
+/// of them, a dict with str keys (an inline table); numpy scalars by their
+/// `__index__` / `__float__`.
+fn scene_value(v: &Bound<'_, PyAny>) -> PyResult<SceneValue> {
+    if v.is_instance_of::<PyBool>() {
+        return Ok(SceneValue::Bool(v.extract()?));
+    }
+    if v.is_instance_of::<PyInt>() {
+        return v.extract::<i64>().map(SceneValue::Int).map_err(|_| {
+            PyValueError::new_err(format!(
+                "{}: an integer out of the range of a scene file's integers (64 bits)",
+                v.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+            ))
+        });
+    }
+    if v.is_instance_of::<PyFloat>() {
+        return Ok(SceneValue::Float(v.extract()?));
+    }
+    if let Ok(s) = v.cast::<PyString>() {
+        return Ok(SceneValue::Str(s.to_cow()?.into_owned()));
+    }
+    if let Ok(d) = v.cast::<PyDict>() {
+        let mut entries = Vec::with_capacity(d.len());
+        for (k, x) in d.iter() {
+            let Ok(k) = k.cast::<PyString>() else {
+                return Err(PyTypeError::new_err(format!(
+                    "a table's keys are strings, not {}",
+                    k.get_type().name()?
+                )));
+            };
+            entries.push((k.to_cow()?.into_owned(), scene_value(&x)?));
+        }
+        return Ok(SceneValue::Table(entries));
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let items: Vec<SceneValue> = v
+            .try_iter()?
+            .map(|x| scene_value(&x?))
+            .collect::<PyResult<_>>()?;
+        return Ok(SceneValue::Array(items));
+    }
+    if v.hasattr("__index__")? {
+        if let Ok(i) = v.call_method0("__index__")?.extract::<i64>() {
+            return Ok(SceneValue::Int(i));
+        }
+    }
+    if v.hasattr("__float__")? {
+        return Ok(SceneValue::Float(v.call_method0("__float__")?.extract()?));
+    }
+    Err(PyTypeError::new_err(format!(
+        "a scene value is a bool, int, float, str, list or dict, not {}",
+        v.get_type().name()?
+    )))
+}
+
+/// A scene value as Python's.
+fn py_value(py: Python<'_>, v: &SceneValue) -> PyResult<Py<PyAny>> {
+    Ok(match v {
+        SceneValue::Bool(b) => PyBool::new(py, *b).to_owned().into_any().unbind(),
+        SceneValue::Int(i) => i.into_pyobject(py)?.into_any().unbind(),
+        SceneValue::Float(x) => x.into_pyobject(py)?.into_any().unbind(),
+        SceneValue::Str(s) => s.into_pyobject(py)?.into_any().unbind(),
+        SceneValue::Array(items) => {
+            let l = PyList::empty(py);
+            for x in items {
+                l.append(py_value(py, x)?)?;
+            }
+            l.into_any().unbind()
+        }
+        SceneValue::Table(entries) => {
+            let d = PyDict::new(py);
+            for (k, x) in entries {
+                d.set_item(k, py_value(py, x)?)?;
+            }
+            d.into_any().unbind()
+        }
+    })
+}
+
+/// A scene file's text with the values set so far, and the scene built
+/// from it (checked and ready to run).
+#[pyclass(module = "ffr", name = "Scene", frozen)]
+struct Scene {
+    state: std::sync::RwLock<Loaded>,
+}
+
+#[derive(Clone)]
+struct Loaded {
+    text: SceneText,
+    built: Arc<ffr::scene::Scene>,
+}
+
+impl Scene {
+    fn new(text: SceneText) -> PyResult<Self> {
+        // Resolved and built now, as `ffr run` does: errors at their place.
+        let built = Arc::new(text.load().map_err(scene_err)?);
+        Ok(Scene {
+            state: std::sync::RwLock::new(Loaded { text, built }),
+        })
+    }
+
+    fn snapshot(&self) -> Loaded {
+        self.state.read().unwrap_or_else(|e| e.into_inner()).clone()
+    }
+
+    /// Set every `(key, value)` on a copy, build the scene once, keep the
+    /// copy only if it builds.
+    fn set_all(&self, items: Vec<(String, SceneValue)>) -> PyResult<()> {
+        let mut text = self.snapshot().text;
+        for (k, v) in items {
+            text.set(&k, v).map_err(scene_err)?;
+        }
+        let built = Arc::new(text.load().map_err(scene_err)?);
+        *self.state.write().unwrap_or_else(|e| e.into_inner()) = Loaded { text, built };
+        Ok(())
+    }
+}
+
+#[pymethods]
+impl Scene {
+    /// Read a scene file (relative shape files against its directory).
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Self> {
+        let text = SceneText::read(&path).map_err(scene_err)?;
+        Scene::new(text)
+    }
+
+    /// A scene from its text; `file` names it in errors, `base` (default:
+    /// the current directory) resolves relative shape files.
+    #[staticmethod]
+    #[pyo3(signature = (text, file = "<string>", base = None))]
+    fn from_str(text: &str, file: &str, base: Option<PathBuf>) -> PyResult<Self> {
+        let base = base.unwrap_or_else(|| PathBuf::from("."));
+        Scene::new(SceneText::parse(text, file, &base).map_err(scene_err)?)
+    }
+
+    /// Set the value at a dotted key (`bodies.beam.params.e`,
+    /// `joints.0.drive.omega`, `t_end`); the scene is then resolved and
+    /// built as `ffr run` does it, and a key or value it refuses raises
+    /// `SceneError` with the loader's located message (the scene is left as
+    /// it was).
+    fn set(&self, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.set_all(vec![(key.to_string(), scene_value(value)?)])
+    }
+
+    /// Set several keys at once (a dict of dotted keys to values), checked
+    /// together: for changes that only fit together.
+    fn update(&self, values: &Bound<'_, PyDict>) -> PyResult<()> {
+        let mut items = Vec::with_capacity(values.len());
+        for (k, v) in values.iter() {
+            items.push((k.extract::<String>()?, scene_value(&v)?));
+        }
+        self.set_all(items)
+    }
+
+    /// The value at a dotted key, or `None` if the scene has none there.
+    fn get(&self, py: Python<'_>, key: &str) -> PyResult<Option<Py<PyAny>>> {
+        self.snapshot()
+            .text
+            .get(key)
+            .map(|v| py_value(py, &v))
+            .transpose()
+    }
+
+    /// The file's name as errors give it.
+    #[getter]
+    fn file(&self) -> String {
+        self.snapshot().text.file().to_string()
+    }
+
+    /// The scene's text as it reads now (the file with the values set).
+    #[getter]
+    fn text(&self) -> String {
+        self.snapshot().text.text()
+    }
+
+    /// The keys set so far and their values, in order.
+    #[getter]
+    fn overrides(&self, py: Python<'_>) -> PyResult<Vec<(String, Py<PyAny>)>> {
+        self.snapshot()
+            .text
+            .overrides()
+            .iter()
+            .map(|(k, v)| Ok((k.clone(), py_value(py, v)?)))
+            .collect()
+    }
+
+    /// Run the scene (the GIL released), recording every output at every
+    /// step. A run that stops early raises `SimulationError` with the
+    /// command line's message.
+    fn run(&self, py: Python<'_>) -> PyResult<RunResult> {
+        let scene = self.snapshot().built;
+        let r = py
+            .detach(move || ffr::scene::run(&scene))
+            .map_err(|e| SimulationError::new_err(e.to_string()))?;
+        if let Some(f) = &r.failed {
+            return Err(SimulationError::new_err(format!(
+                "the run stopped at t = {:.6} s: {f}",
+                r.t.last().copied().unwrap_or(0.0)
+            )));
+        }
+        let columns = r
+            .columns
+            .into_iter()
+            .map(|c| PyArray1::from_vec(py, c).unbind())
+            .collect();
+        Ok(RunResult {
+            t: PyArray1::from_vec(py, r.t).unbind(),
+            names: r.names,
+            columns,
+            steps: r.steps,
+            newton_iterations: r.newton_iterations,
+            jacobians: r.jacobians,
+            restarts: r.restarts,
+            splits: r.splits,
+            wall: r.wall,
+        })
+    }
+
+    fn __repr__(&self) -> String {
+        let t = self.snapshot().text;
+        if t.overrides().is_empty() {
+            format!("ffr.Scene({:?})", t.file())
+        } else {
+            let set: Vec<String> = t
+                .overrides()
+                .iter()
+                .map(|(k, v)| format!("{k} = {v}"))
+                .collect();
+            format!("ffr.Scene({:?}, with {})", t.file(), set.join(", "))
+        }
+    }
+}
+
+/// A scene run: each output by name as a numpy array (`result["tip_x"]`),
+/// the times `t`, and the run's statistics.
+#[pyclass(module = "ffr", name = "RunResult", frozen)]
+struct RunResult {
+    t: Py<PyArray1<f64>>,
+    names: Vec<String>,
+    columns: Vec<Py<PyArray1<f64>>>,
+    /// Steps taken.
+    #[pyo3(get)]
+    steps: usize,
+    /// Newton iterations.
+    #[pyo3(get)]
+    newton_iterations: usize,
+    /// Iteration-matrix factorizations.
+    #[pyo3(get)]
+    jacobians: usize,
+    /// Steps whose Newton iteration was started again from rest.
+    #[pyo3(get)]
+    restarts: usize,
+    /// Steps done in halves.
+    #[pyo3(get)]
+    splits: usize,
+    /// Wall time of the simulation (s), as the library measures it.
+    #[pyo3(get)]
+    wall: f64,
+}
+
+#[pymethods]
+impl RunResult {
+    /// The times (s).
+    #[getter]
+    fn t(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.t.clone_ref(py)
+    }
+
+    /// The output names, in the scene's order.
+    fn keys(&self) -> Vec<String> {
+        self.names.clone()
+    }
+
+    fn __getitem__(&self, py: Python<'_>, name: &str) -> PyResult<Py<PyArray1<f64>>> {
+        match self.names.iter().position(|n| n == name) {
+            Some(i) => Ok(self.columns[i].clone_ref(py)),
+            None => Err(PyKeyError::new_err(format!(
+                "no output `{name}`; the outputs are {}",
+                self.names.join(", ")
+            ))),
+        }
+    }
+
+    fn __contains__(&self, name: &str) -> bool {
+        self.names.iter().any(|n| n == name)
+    }
+
+    fn __len__(&self) -> usize {
+        self.names.len()
+    }
+
+    fn __iter__(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        Ok(PyList::new(py, &self.names)?
+            .try_iter()?
+            .into_any()
+            .unbind())
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "ffr.RunResult({} samples, outputs {}, {} steps, wall {:.3} s)",
+            PyUntypedArrayMethods::len(self.t.bind(py)),
+            self.names.join(", "),
+            self.steps,
+            self.wall
+        )
+    }
+}
+
+fn matrix<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArray2<f64>> {
+    let a = numpy::ndarray::Array2::from_shape_fn((m.nrows(), m.ncols()), |(i, j)| m[(i, j)]);
+    PyArray2::from_owned_array(py, a)
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// The invariants as a dict keyed like `ffr invariants --json`.
+fn invariants_dict<'py>(
+    py: Python<'py>,
+    inv: &Invariants,
+    dofs: &[String],
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = inv.dim;
+    let n = inv.nf();
+    let out = PyDict::new(py);
+    out.set_item("mass", inv.mass)?;
+    out.set_item("St0", PyArray1::from_slice(py, &inv.s_t0.as_slice()[..d]))?;
+    let sbar = numpy::ndarray::Array2::from_shape_fn((d, n), |(k, a)| inv.s_bar[(k, a)]);
+    out.set_item("Sbar", PyArray2::from_owned_array(py, sbar))?;
+    let (skl, ikl, theta) = (PyDict::new(py), PyDict::new(py), PyDict::new(py));
+    for k in 0..d {
+        for l in 0..d {
+            let key = format!("{}{}", AXES[k], AXES[l]);
+            skl.set_item(&key, matrix(py, &inv.s_kl[k][l]))?;
+            ikl.set_item(&key, PyArray1::from_slice(py, inv.i_kl[k][l].as_slice()))?;
+            theta.set_item(&key, inv.theta[(k, l)])?;
+        }
+    }
+    out.set_item("Skl", skl)?;
+    out.set_item("Ikl", ikl)?;
+    out.set_item("theta", theta)?;
+    out.set_item("mff", matrix(py, &inv.m_ff))?;
+    out.set_item("Kff", matrix(py, &inv.k_ff))?;
+    out.set_item("dofs", dofs.to_vec())?;
+    Ok(out)
+}
+
+/// A scene given as an `ffr.Scene` or a path.
+fn scene_text(scene: &Bound<'_, PyAny>) -> PyResult<SceneText> {
+    if let Ok(s) = scene.cast::<Scene>() {
+        return Ok(s.get().snapshot().text);
+    }
+    let path: PathBuf = scene
+        .extract()
+        .map_err(|_| PyTypeError::new_err("scene: an ffr.Scene or a path to a scene file"))?;
+    SceneText::read(&path).map_err(scene_err)
+}
+
+fn parse<T: std::str::FromStr<Err = String>>(s: &str) -> PyResult<T> {
+    s.parse().map_err(PyValueError::new_err)
+}
+
+/// The body the keyword arguments describe: a scene's flexible body
+/// (`scene` and `body`) or a beam of `shape` and `elements` (the command
+/// line's flags and defaults).
+struct BodyArgs {
+    shape: Option<String>,
+    elements: Option<usize>,
+    reference: Option<String>,
+    formalism: Option<String>,
+    params: [Option<f64>; 8],
+}
+
+impl BodyArgs {
+    fn any(&self) -> bool {
+        self.shape.is_some()
+            || self.elements.is_some()
+            || self.reference.is_some()
+            || self.formalism.is_some()
+            || self.params.iter().any(Option::is_some)
+    }
+
+    fn params(&self) -> Params {
+        let d = Params::STEEL_BAR;
+        let p = &self.params;
+        Params {
+            length: p[0].unwrap_or(d.length),
+            rho: p[1].unwrap_or(d.rho),
+            area: p[2].unwrap_or(d.area),
+            iy: p[3].unwrap_or(d.iy),
+            iz: p[4].unwrap_or(d.iz),
+            e: p[5].unwrap_or(d.e),
+            g: p[6].unwrap_or(d.g),
+            j: p[7].unwrap_or(d.j),
+        }
+    }
+
+    fn shape(&self) -> String {
+        self.shape.clone().unwrap_or_else(|| "beam3".into())
+    }
+
+    fn elements(&self) -> PyResult<usize> {
+        match self.elements.unwrap_or(1) {
+            n @ 1..=256 => Ok(n),
+            n => Err(PyValueError::new_err(format!(
+                "elements = {n}: expected 1 to 256"
+            ))),
+        }
+    }
+
+    fn reference(&self) -> PyResult<Reference> {
+        self.reference
+            .as_deref()
+            .map_or(Ok(Reference::Clamped), parse)
+    }
+
+    fn formalism(&self) -> PyResult<Formalism> {
+        self.formalism
+            .as_deref()
+            .map_or(Ok(Formalism::Consistent), parse)
+    }
+
+    /// With `scene`: the built scene (its file's name for errors), after
+    /// checking that no body argument was given too.
+    fn scene(
+        &self,
+        py: Python<'_>,
+        scene: Option<&Bound<'_, PyAny>>,
+        body: Option<&str>,
+    ) -> PyResult<Option<(Arc<ffr::scene::Scene>, String)>> {
+        match (scene, body) {
+            (None, None) => Ok(None),
+            (Some(_), None) | (None, Some(_)) => Err(PyValueError::new_err(
+                "scene and body go together: the flexible body `body` of the scene `scene`",
+            )),
+            (Some(s), Some(_)) => {
+                if self.any() {
+                    return Err(PyValueError::new_err(
+                        "with scene and body, the body is the scene's: give no shape, elements, reference, formalism or parameters",
+                    ));
+                }
+                if let Ok(s) = s.cast::<Scene>() {
+                    let l = s.get().snapshot();
+                    return Ok(Some((l.built, l.text.file().to_string())));
+                }
+                let text = scene_text(s)?;
+                let file = text.file().to_string();
+                let built = py.detach(move || text.load()).map_err(scene_err)?;
+                Ok(Some((Arc::new(built), file)))
+            }
+        }
+    }
+}
+
+/// A body's invariants at its parameters, keyed like `ffr invariants --json`.
+#[pyfunction]
+#[pyo3(signature = (shape = None, elements = None, reference = None, formalism = None, *, length = None, rho = None, area = None, iy = None, iz = None, e = None, g = None, j = None, tape = false, scene = None, body = None))]
+#[allow(clippy::too_many_arguments)]
+fn invariants<'py>(
+    py: Python<'py>,
+    shape: Option<String>,
+    elements: Option<usize>,
+    reference: Option<String>,
+    formalism: Option<String>,
+    length: Option<f64>,
+    rho: Option<f64>,
+    area: Option<f64>,
+    iy: Option<f64>,
+    iz: Option<f64>,
+    e: Option<f64>,
+    g: Option<f64>,
+    j: Option<f64>,
+    tape: bool,
+    scene: Option<&Bound<'py, PyAny>>,
+    body: Option<&str>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let args = BodyArgs {
+        shape,
+        elements,
+        reference,
+        formalism,
+        params: [length, rho, area, iy, iz, e, g, j],
+    };
+    if tape && scene.is_some() {
+        return Err(PyValueError::new_err(
+            "tape applies to a body of shape and elements, not to a scene's body",
+        ));
+    }
+    let b = match args.scene(py, scene, body)? {
+        Some((s, file)) => ffr::invariants::of_scene_body(&s, body.unwrap_or_default())
+            .map_err(|e| py_err(e, Some(&file)))?,
+        None => {
+            let beam = BeamSpec {
+                shape: args.shape(),
+                elements: args.elements()?,
+                reference: args.reference()?,
+                options: KernelOptions::new().formalism(args.formalism()?),
+                params: args.params(),
+                force_tape: tape,
+            };
+            py.detach(|| ffr::invariants::of_beam(&beam))
+                .map_err(|e| py_err(e, None))?
+        }
+    };
+    invariants_dict(py, &b.invariants, &b.dofs)
+}
+
+/// The modal reduction as a dict keyed like `ffr modes --json`.
+fn modes_dict<'py>(
+    py: Python<'py>,
+    body: &ReducibleBody,
+    basis: &ModalBasis,
+) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("body", body.description())?;
+    out.set_item("reduction", basis.reduction_name())?;
+    out.set_item("omega", PyArray1::from_slice(py, &basis.frequencies))?;
+    let hz: Vec<f64> = basis
+        .frequencies
+        .iter()
+        .map(|w| w / std::f64::consts::TAU)
+        .collect();
+    out.set_item("hz", PyArray1::from_vec(py, hz))?;
+    out.set_item("labels", basis.labels.clone())?;
+    out.set_item("dofs", body.dofs.clone())?;
+    out.set_item("phi", matrix(py, &basis.phi))?;
+    out.set_item("modal_mass", matrix(py, &basis.modal_mass))?;
+    out.set_item("modal_stiffness", matrix(py, &basis.modal_stiffness))?;
+    let projected = to_runtime(&body.invariants.project(&basis.phi));
+    out.set_item(
+        "invariants",
+        invariants_dict(py, &projected, &basis.labels)?,
+    )?;
+    Ok(out)
+}
+
+/// A body's modes: modal truncation to `count` modes (default every
+/// elastic mode) or, with `boundary` nodes, Craig–Bampton; keyed like
+/// `ffr modes --json`.
+#[pyfunction]
+#[pyo3(signature = (shape = None, elements = None, reference = None, formalism = None, *, count = None, boundary = Vec::new(), length = None, rho = None, area = None, iy = None, iz = None, e = None, g = None, j = None, scene = None, body = None))]
+#[allow(clippy::too_many_arguments)]
+fn modes<'py>(
+    py: Python<'py>,
+    shape: Option<String>,
+    elements: Option<usize>,
+    reference: Option<String>,
+    formalism: Option<String>,
+    count: Option<usize>,
+    boundary: Vec<usize>,
+    length: Option<f64>,
+    rho: Option<f64>,
+    area: Option<f64>,
+    iy: Option<f64>,
+    iz: Option<f64>,
+    e: Option<f64>,
+    g: Option<f64>,
+    j: Option<f64>,
+    scene: Option<&Bound<'py, PyAny>>,
+    body: Option<&str>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let args = BodyArgs {
+        shape,
+        elements,
+        reference,
+        formalism,
+        params: [length, rho, area, iy, iz, e, g, j],
+    };
+    let (b, file) = match args.scene(py, scene, body)? {
+        Some((s, file)) => {
+            let (id, f) = s
+                .flex_body(body.unwrap_or_default())
+                .map_err(FfrError::new_err)?;
+            (
+                ReducibleBody::of_scene_body(f, s.system.body(id))
+                    .map_err(|e| py_err(e, Some(&file)))?,
+                Some(file),
+            )
+        }
+        None => {
+            let (shape, n, r, f, p) = (
+                args.shape(),
+                args.elements()?,
+                args.reference()?,
+                args.formalism()?,
+                args.params(),
+            );
+            (
+                py.detach(|| ReducibleBody::from_parts(&shape, n, r, f, p))
+                    .map_err(|e| py_err(e, None))?,
+                None,
+            )
+        }
+    };
+    let basis = py
+        .detach(|| b.reduce(count, &boundary, "count"))
+        .map_err(|e| py_err(e, file.as_deref()))?;
+    modes_dict(py, &b, &basis)
+}
+
+/// The state a linear model is taken about: a time (s) or `"static"`.
+fn at(v: &Bound<'_, PyAny>) -> PyResult<At> {
+    if let Ok(s) = v.cast::<PyString>() {
+        if s.to_cow()? == "static" {
+            return Ok(At::Static);
+        }
+    } else if let Ok(t) = v.extract::<f64>() {
+        if t.is_finite() && t >= 0.0 {
+            return Ok(At::Time(t));
+        }
+    }
+    Err(PyValueError::new_err(format!(
+        "at = {}: expected a time in seconds (finite, ≥ 0) or \"static\"",
+        v.repr()?
+    )))
+}
+
+/// A scene's linear model `ẋ = A x + B u`, `y = C x + D u` about its state
+/// at time `at` (the scene run to it) or its static equilibrium
+/// (`at="static"`), as `ffr linearize --json` gives it: `states`, `inputs`,
+/// `outputs`, `A`, `B`, `C`, `D`, and `eigenvalues` (complex).
+#[pyfunction]
+#[pyo3(signature = (scene, at = None, inputs = None, outputs = None))]
+fn linearize<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, PyAny>,
+    at: Option<&Bound<'py, PyAny>>,
+    inputs: Option<Vec<String>>,
+    outputs: Option<Vec<String>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let at = at.map_or(Ok(At::Time(0.0)), self::at)?;
+    let text = scene_text(scene)?;
+    let file = text.file().to_string();
+    let spec = text.spec().map_err(scene_err)?;
+    let m = py
+        .detach(|| {
+            ffr::scene::linear::linearize_scene(
+                &spec,
+                &ffr::scene::DefaultKernels,
+                at,
+                inputs.as_deref(),
+                outputs.as_deref(),
+            )
+        })
+        .map_err(|e| py_err(e, Some(&file)))?;
+    let ev = ffr::runtime::linear::eigenvalues(&m.a);
+    let ev: Vec<numpy::Complex64> = ev
+        .iter()
+        .map(|l| numpy::Complex64::new(l.re, l.im))
+        .collect();
+    let out = PyDict::new(py);
+    out.set_item("states", m.states.clone())?;
+    out.set_item("inputs", m.inputs.clone())?;
+    out.set_item("outputs", m.outputs.clone())?;
+    out.set_item("A", matrix(py, &m.a))?;
+    out.set_item("B", matrix(py, &m.b))?;
+    out.set_item("C", matrix(py, &m.c))?;
+    out.set_item("D", matrix(py, &m.d))?;
+    out.set_item("eigenvalues", PyArray1::from_vec(py, ev))?;
+    Ok(out)
+}
+
+/// A Campbell diagram: the scene's lowest `count` modes while its driven
+/// revolute joint (`joint`, 1-based; default the first) turns at each of
+/// `speeds` (rad/s), as `ffr campbell --json` gives it: `speeds`, `joint`
+/// and `modes` (per speed, a list of `{omega, hz, zeta, label}`).
+#[pyfunction]
+#[pyo3(signature = (scene, speeds, joint = None, count = 10))]
+fn campbell<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, PyAny>,
+    speeds: Vec<f64>,
+    joint: Option<usize>,
+    count: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    if count == 0 {
+        return Err(PyValueError::new_err(
+            "count = 0: ask for at least one mode",
+        ));
+    }
+    if joint == Some(0) {
+        return Err(PyValueError::new_err(
+            "joint = 0: joints are numbered from 1 in file order",
+        ));
+    }
+    let text = scene_text(scene)?;
+    let file = text.file().to_string();
+    let spec = text.spec().map_err(scene_err)?;
+    let c = py
+        .detach(|| {
+            ffr::scene::linear::campbell(
+                &spec,
+                &ffr::scene::DefaultKernels,
+                &speeds,
+                joint.map(|j| j - 1),
+                count,
+            )
+        })
+        .map_err(|e| py_err(e, Some(&file)))?;
+    let out = PyDict::new(py);
+    out.set_item("speeds", PyArray1::from_slice(py, &c.speeds))?;
+    out.set_item("joint", c.joint + 1)?;
+    let modes = PyList::empty(py);
+    for ms in &c.modes {
+        let l = PyList::empty(py);
+        for m in ms {
+            let d = PyDict::new(py);
+            d.set_item("omega", m.omega)?;
+            d.set_item("hz", m.hz)?;
+            d.set_item("zeta", m.zeta)?;
+            d.set_item("label", &m.label)?;
+            l.append(d)?;
+        }
+        modes.append(l)?;
+    }
+    out.set_item("modes", modes)?;
+    Ok(out)
+}
+
+/// The extension module `ffr._ffr`.
+#[pymodule]
+fn _ffr(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("FfrError", py.get_type::<FfrError>())?;
+    m.add("SceneError", py.get_type::<SceneError>())?;
+    m.add("SimulationError", py.get_type::<SimulationError>())?;
+    m.add_class::<Scene>()?;
+    m.add_class::<RunResult>()?;
+    m.add_function(wrap_pyfunction!(invariants, m)?)?;
+    m.add_function(wrap_pyfunction!(modes, m)?)?;
+    m.add_function(wrap_pyfunction!(linearize, m)?)?;
+    m.add_function(wrap_pyfunction!(campbell, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,170 @@
+"""`Scene.set`: every kind of key (top level, table, inline table, array of
+tables by index, array element, string and bool values), its effect seen in
+the run; keys and values the scene refuses raise `SceneError` with the
+loader's located message, the same as the command line's."""
+
+import subprocess
+
+import numpy as np
+import pytest
+
+import ffr
+from conftest import SCENES
+
+SPIN_UP = SCENES / "spin_up.toml"
+
+
+@pytest.fixture(scope="module")
+def base():
+    return ffr.Scene.load(SPIN_UP).run()
+
+
+def run_with(**changes):
+    s = ffr.Scene.load(SPIN_UP)
+    for k, v in changes.items():
+        s.set(k.replace("__", "."), v)
+    return s, s.run()
+
+
+def test_top_level_key(base):
+    s, r = run_with(t_end=5.0)
+    assert s.get("t_end") == 5.0
+    assert r.t[-1] == pytest.approx(5.0) and len(r.t) == 501 < len(base.t)
+    # The same steps up to there.
+    assert np.array_equal(r["tip_transverse"], base["tip_transverse"][:501])
+
+
+def test_table_key(base):
+    s, r = run_with(bodies__beam__elements=4)
+    assert s.get("bodies.beam.elements") == 4
+    assert len(r.t) == len(base.t)
+    assert not np.array_equal(r["tip_transverse"], base["tip_transverse"])
+
+
+def test_inline_table_key(base):
+    s, r = run_with(bodies__beam__params__e=2 * 6.8952e10)
+    assert s.get("bodies.beam.params.e") == 2 * 6.8952e10
+    # A stiffer beam deflects less.
+    assert np.abs(r["tip_transverse"]).max() < np.abs(base["tip_transverse"]).max()
+
+
+def test_array_of_tables_by_index(base):
+    s, r = run_with(joints__0__drive__omega=2.0)
+    assert s.get("joints.0.drive.omega") == 2.0
+    assert np.abs(r["tip_transverse"]).max() < np.abs(base["tip_transverse"]).max()
+
+
+def test_array_element(base):
+    # The beam's frame and the hub's ground point both moved 1 m along y
+    # (an array element, and a string): the same motion, so the same tip
+    # deflection up to round-off and the Newton tolerance.
+    s = ffr.Scene.load(SPIN_UP)
+    s.update({"bodies.beam.position.1": 1.0, "joints.0.a": "ground@[0.0, 1.0]"})
+    assert s.get("bodies.beam.position") == [0.0, 1.0]
+    assert s.get("joints.0.a") == "ground@[0.0, 1.0]"
+    r = s.run()
+    np.testing.assert_allclose(r["tip_transverse"], base["tip_transverse"], rtol=0, atol=1e-9)
+
+
+def test_string_value(base):
+    # The second output's component: now the same column as the first.
+    s, r = run_with(outputs__1__component="x")
+    assert s.get("outputs.1.component") == "x"
+    assert np.array_equal(r["tip_transverse"], base["tip_axial"])
+
+
+def test_bool_value():
+    s = ffr.Scene.load(SPIN_UP)
+    s.set("bodies.beam.stiffening", False)
+    assert s.get("bodies.beam.stiffening") is False
+    # Without stiffening the spin-up diverges (test_run.py).
+    with pytest.raises(ffr.SimulationError):
+        s.run()
+
+
+def test_new_key_and_inline_table_value(base):
+    # A key the file leaves at its default, and a whole inline table.
+    s, r = run_with(integrator={"kind": "generalized-alpha", "rho_inf": 0.5})
+    assert s.get("integrator") == {"kind": "generalized-alpha", "rho_inf": 0.5}
+    assert not np.array_equal(r["tip_transverse"], base["tip_transverse"])
+    assert r.t[-1] == pytest.approx(20.0)
+
+
+def test_update_sets_keys_together():
+    s = ffr.Scene.load(SPIN_UP)
+    s.update({"bodies.beam.elements": 2, "t_end": 1.0})
+    assert [k for k, _ in s.overrides] == ["bodies.beam.elements", "t_end"]
+    assert len(s.run().t) == 101
+
+
+@pytest.mark.parametrize(
+    "key, message",
+    [
+        ("bodies.nope.e", "key `bodies.nope.e`: `bodies` has no `nope` (a table of: beam)"),
+        ("joints.3.drive", "key `joints.3.drive`: `joints` has no `3` (an array of tables of: 0)"),
+        ("bodies..e", "key `bodies..e`: an empty segment"),
+        ("bodies.beam", "`beam` in `bodies` is a table; set the values inside it"),
+    ],
+)
+def test_bad_keys_raise_scene_error(key, message):
+    s = ffr.Scene.load(SPIN_UP)
+    with pytest.raises(ffr.SceneError) as e:
+        s.set(key, 1.0)
+    assert str(e.value).startswith(f"{SPIN_UP}: key `")
+    assert message in str(e.value)
+    # The scene is as it was.
+    assert s.overrides == [] and s.text == SPIN_UP.read_text()
+
+
+@pytest.mark.parametrize(
+    "key, value, old, new",
+    [
+        ("bodies.beam.params.e", -1.0, "e = 6.8952e10", "e = -1.0"),
+        ("bodies.beam.elements", "x", "elements = 8", 'elements = "x"'),
+        ("joints.0.drive.omega", True, "omega = 4.0", "omega = true"),
+        ("dt", 0.0, "dt = 0.01", "dt = 0.0"),
+    ],
+)
+def test_bad_values_raise_the_located_message_of_the_command_line(ffr_bin, tmp_path, key, value, old, new):
+    # The command line's message for the file with that value written in.
+    text = SPIN_UP.read_text()
+    assert text.count(old) == 1
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace(old, new))
+    r = subprocess.run([str(ffr_bin), "run", str(bad), "--csv", str(tmp_path / "x.csv")], capture_output=True, text=True)
+    assert r.returncode != 0
+    cli_message = r.stderr.strip().removeprefix("error: ")
+    assert cli_message.startswith(f"{bad}:"), cli_message
+    # Loaded from that file: the same message.
+    with pytest.raises(ffr.SceneError) as e:
+        ffr.Scene.load(bad)
+    assert str(e.value) == cli_message
+    # Set on the original: the same place and words, the key named.
+    s = ffr.Scene.load(SPIN_UP)
+    with pytest.raises(ffr.SceneError) as e:
+        s.set(key, value)
+    expected = cli_message.replace(str(bad), str(SPIN_UP), 1)
+    assert str(e.value).startswith(expected + " (with " + key + " = "), (str(e.value), expected)
+    assert s.overrides == []
+
+
+def test_values_python_cannot_write_raise_type_error():
+    s = ffr.Scene.load(SPIN_UP)
+    with pytest.raises(TypeError):
+        s.set("t_end", object())
+    with pytest.raises(ffr.SceneError, match="not a finite number"):
+        s.set("t_end", float("nan"))
+
+
+def test_numpy_scalars_are_numbers():
+    s = ffr.Scene.load(SPIN_UP)
+    s.set("bodies.beam.elements", np.int64(4))
+    s.set("t_end", np.float64(1.0))
+    assert s.get("bodies.beam.elements") == 4 and s.get("t_end") == 1.0
+
+
+def test_scene_file_errors_are_located(tmp_path):
+    with pytest.raises(ffr.SceneError, match=r"^mine\.toml:1:\d+: "):
+        ffr.Scene.from_str("t_end = = 1", file="mine.toml")
+    with pytest.raises(ffr.SceneError):
+        ffr.Scene.load(tmp_path / "missing.toml")
