@@ -16,6 +16,8 @@
 
 pub mod body;
 pub mod builder;
+#[cfg(any(feature = "sections", feature = "fe"))]
+mod csv_table;
 pub mod dag;
 pub mod emit;
 pub mod energy;

@@ -269,23 +269,9 @@ pub fn read_csv(
         line: line as usize,
         column,
     };
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(true)
-        .comment(Some(b'#'))
-        .flexible(false)
-        .from_reader(text.as_bytes());
+    let mut reader = crate::csv_table::reader(&text);
     let csv_err = |e: csv::Error| {
-        let (line, message) = match e.kind() {
-            csv::ErrorKind::UnequalLengths {
-                pos,
-                expected_len,
-                len,
-            } => (
-                pos.as_ref().map_or(1, |p| p.line()),
-                format!("a row has {len} fields, the header {expected_len}"),
-            ),
-            _ => (e.position().map_or(1, |p| p.line()), e.to_string()),
-        };
+        let (line, message) = crate::csv_table::error_at(&e);
         Error::Scene {
             location: at(line, 1),
             message: format!("body `{name}`: {message}"),

@@ -28,23 +28,9 @@ pub fn read_nodes(path: &Path, shown: &str) -> Result<Vec<Vector3<f64>>, FeError
 
 /// [`read_nodes`] of the text of a file.
 pub fn read_nodes_str(text: &str, shown: &str) -> Result<Vec<Vector3<f64>>, FeError> {
-    let mut reader = csv::ReaderBuilder::new()
-        .has_headers(true)
-        .comment(Some(b'#'))
-        .flexible(false)
-        .from_reader(text.as_bytes());
+    let mut reader = crate::csv_table::reader(text);
     let csv_err = |e: csv::Error| {
-        let (line, message) = match e.kind() {
-            csv::ErrorKind::UnequalLengths {
-                pos,
-                expected_len,
-                len,
-            } => (
-                pos.as_ref().map_or(1, |p| p.line()),
-                format!("a row has {len} fields, the header {expected_len}"),
-            ),
-            _ => (e.position().map_or(1, |p| p.line()), e.to_string()),
-        };
+        let (line, message) = crate::csv_table::error_at(&e);
         FeError::at(shown, line as usize, 1, message)
     };
     let header: Vec<String> = reader
