@@ -25,15 +25,43 @@ pub fn time_svg(
     t: &[f64],
     series: &[(&str, &[f64])],
 ) -> Result<String, Box<dyn std::error::Error>> {
+    time_svg_with(title, y_label, t, series, &[])
+}
+
+/// A series on its own time grid: name, times, values.
+pub type TimedSeries<'a> = (&'a str, &'a [f64], &'a [f64]);
+
+/// [`time_svg`] with `overlays` (e.g. a reference history on its own time
+/// grid) drawn as thin black lines over the same axes, cut to the run's time
+/// span, each named in the legend.
+pub fn time_svg_with(
+    title: &str,
+    y_label: &str,
+    t: &[f64],
+    series: &[(&str, &[f64])],
+    overlays: &[TimedSeries],
+) -> Result<String, Box<dyn std::error::Error>> {
     let title = plot_text(title, MAX_TITLE_CHARS);
     let y_label = plot_text(y_label, MAX_LABEL_CHARS);
     let mut svg = String::new();
     {
         let t_max = t.last().copied().unwrap_or(1.0).max(1e-9);
         let t_min = t.first().copied().unwrap_or(0.0).min(t_max - 1e-9);
+        // The overlays' points inside the run's time span.
+        let overlays: Vec<(&str, Vec<(f64, f64)>)> = overlays
+            .iter()
+            .map(|(name, ot, ov)| {
+                let pts = envelope(ot, ov, PLOT_BUCKETS)
+                    .into_iter()
+                    .filter(|(x, _)| (t_min..=t_max).contains(x))
+                    .collect();
+                (*name, pts)
+            })
+            .collect();
         let finite = series
             .iter()
             .flat_map(|(_, v)| v.iter().copied())
+            .chain(overlays.iter().flat_map(|(_, p)| p.iter().map(|q| q.1)))
             .filter(|v| v.is_finite());
         let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
@@ -60,6 +88,12 @@ pub fn time_svg(
                 .draw_series(LineSeries::new(pts, color))?
                 .label(plot_text(name, MAX_LABEL_CHARS))
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+        }
+        for (name, pts) in overlays {
+            chart
+                .draw_series(LineSeries::new(pts, BLACK.stroke_width(1)))?
+                .label(plot_text(name, MAX_LABEL_CHARS))
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK));
         }
         chart
             .configure_series_labels()

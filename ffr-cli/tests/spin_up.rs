@@ -50,6 +50,21 @@ fn stiffened_beam_follows_the_reference_and_writes_csv_and_svg() {
     assert!(rows.iter().any(|r| r[2] == y));
     let svg = std::fs::read_to_string(temp("omega4.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("tip_transverse"));
+    // The plot overlays the reference the error is reported against.
+    assert!(
+        svg.contains("reference tip_transverse"),
+        "no reference in the plot"
+    );
+    // A spin rate without a reference: no overlay.
+    spin_up(&SpinUpArgs {
+        omega: 3.0,
+        t_end: 1.0,
+        csv: Some(temp("omega3.csv")),
+        ..SpinUpArgs::default()
+    })
+    .unwrap();
+    let svg = std::fs::read_to_string(temp("omega3.svg")).unwrap();
+    assert!(svg.contains("tip_transverse") && !svg.contains("reference"));
 }
 
 #[test]

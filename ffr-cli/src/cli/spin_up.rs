@@ -225,7 +225,22 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
     let names: Vec<&str> = cols.iter().map(|c| c.0).collect();
     let values: Vec<&[f64]> = cols.iter().map(|c| c.1).collect();
     check_finite_columns(&r.t, &names, &values)?;
-    let plot = crate::plot::time_svg(
+    // The geometrically exact reference the error is reported against, where
+    // there is one for this spin rate: its transverse tip history over the
+    // run's.
+    let reference = crate::reference::spin_up(args.omega);
+    let overlay: Vec<crate::plot::TimedSeries> = reference
+        .as_ref()
+        .and_then(|r| {
+            Some((
+                "reference tip_transverse",
+                &r.t[..],
+                r.column("tip_transverse")?,
+            ))
+        })
+        .into_iter()
+        .collect();
+    let plot = crate::plot::time_svg_with(
         &format!(
             "KRB spin-up, ω_s = {} rad/s, {} {} elements, stiffening {}",
             args.omega,
@@ -236,6 +251,7 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
         "tip displacement, hub frame (m)",
         &r.t,
         &cols,
+        &overlay,
     )?;
     output::write_all_atomic(&[
         (&csv, crate::plot::csv(&r.t, &names, &values).as_bytes()),
@@ -257,8 +273,7 @@ pub fn spin_up(args: &SpinUpArgs) -> Result<SpinUpResult, Box<dyn std::error::Er
     if let Some((t, y)) = r.min_transverse() {
         crate::outln!("peak tip deflection (hub frame): {y:.5} m at t = {t:.2} s")?;
     }
-    if let Some(reference) = crate::reference::spin_up(args.omega).filter(|_| r.diverged.is_none())
-    {
+    if let Some(reference) = reference.filter(|_| r.diverged.is_none()) {
         if let Some((rel, abs)) = reference.error(
             "tip_transverse",
             &r.t,
