@@ -107,6 +107,12 @@ fn bad_keys_are_refused_with_the_place_and_what_is_there() {
     assert!(m.contains("not a finite number"), "{m}");
     let m = msg(s.set(&"x.".repeat(400), 1.0.into()));
     assert!(m.contains("longer than 512 bytes"), "{m}");
+    let mut deep = SceneValue::Float(1.0);
+    for _ in 0..=ffr::scene::edit::MAX_VALUE_DEPTH {
+        deep = SceneValue::Array(vec![deep]);
+    }
+    let m = msg(s.set("bodies.beam.position", deep));
+    assert!(m.contains("nested more than 32"), "{m}");
     // Nothing was set by the refusals.
     assert!(s.overrides().is_empty());
     assert_eq!(

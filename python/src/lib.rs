@@ -69,6 +69,18 @@ fn scene_err(e: impl std::fmt::Display) -> PyErr {
 /// of them, a dict with str keys (an inline table); numpy scalars by their
 /// `__index__` / `__float__`.
 fn scene_value(v: &Bound<'_, PyAny>) -> PyResult<SceneValue> {
+    scene_value_at(v, 0)
+}
+
+/// [`scene_value`] at nesting `depth`: deeper than the library takes
+/// (`MAX_VALUE_DEPTH`, also a list that contains itself) raises.
+fn scene_value_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<SceneValue> {
+    if depth > ffr::scene::edit::MAX_VALUE_DEPTH {
+        return Err(PyValueError::new_err(format!(
+            "a value nested more than {} lists or dicts deep",
+            ffr::scene::edit::MAX_VALUE_DEPTH
+        )));
+    }
     if v.is_instance_of::<PyBool>() {
         return Ok(SceneValue::Bool(v.extract()?));
     }
@@ -95,14 +107,14 @@ fn scene_value(v: &Bound<'_, PyAny>) -> PyResult<SceneValue> {
                     k.get_type().name()?
                 )));
             };
-            entries.push((k.to_cow()?.into_owned(), scene_value(&x)?));
+            entries.push((k.to_cow()?.into_owned(), scene_value_at(&x, depth + 1)?));
         }
         return Ok(SceneValue::Table(entries));
     }
     if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
         let items: Vec<SceneValue> = v
             .try_iter()?
-            .map(|x| scene_value(&x?))
+            .map(|x| scene_value_at(&x?, depth + 1))
             .collect::<PyResult<_>>()?;
         return Ok(SceneValue::Array(items));
     }

@@ -116,6 +116,19 @@ def test_bad_keys_raise_scene_error(key, message):
     assert s.overrides == [] and s.text == SPIN_UP.read_text()
 
 
+def test_values_nested_too_deep_or_containing_themselves_raise():
+    s = ffr.Scene.load(SPIN_UP)
+    looped = []
+    looped.append(looped)
+    deep = 1.0
+    for _ in range(40):
+        deep = [deep]
+    for value in (looped, deep):
+        with pytest.raises(ValueError, match="nested more than 32"):
+            s.set("bodies.beam.position", value)
+    assert s.overrides == []
+
+
 @pytest.mark.parametrize(
     "key, value, old, new",
     [

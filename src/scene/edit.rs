@@ -22,6 +22,10 @@ use toml_edit::{DocumentMut, Item, Value};
 /// The longest key [`SceneText::set`] takes, in bytes.
 pub const MAX_KEY_LEN: usize = 512;
 
+/// The deepest nesting of arrays and tables in a value [`SceneText::set`]
+/// takes (a scene's values nest two or three deep).
+pub const MAX_VALUE_DEPTH: usize = 32;
+
 /// A value to set at a dotted key.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SceneValue {
@@ -52,6 +56,15 @@ impl fmt::Display for SceneValue {
 
 impl SceneValue {
     fn to_toml(&self) -> Result<Value, String> {
+        self.to_toml_at(0)
+    }
+
+    fn to_toml_at(&self, depth: usize) -> Result<Value, String> {
+        if depth > MAX_VALUE_DEPTH {
+            return Err(format!(
+                "a value nested more than {MAX_VALUE_DEPTH} arrays or tables deep"
+            ));
+        }
         Ok(match self {
             SceneValue::Bool(b) => Value::from(*b),
             SceneValue::Int(i) => Value::from(*i),
@@ -65,7 +78,7 @@ impl SceneValue {
             SceneValue::Array(items) => {
                 let mut a = toml_edit::Array::new();
                 for item in items {
-                    a.push(item.to_toml()?);
+                    a.push(item.to_toml_at(depth + 1)?);
                 }
                 Value::Array(a)
             }
@@ -75,7 +88,7 @@ impl SceneValue {
                     if t.contains_key(k) {
                         return Err(format!("key `{k}` twice in one table"));
                     }
-                    t.insert(k, v.to_toml()?);
+                    t.insert(k, v.to_toml_at(depth + 1)?);
                 }
                 Value::InlineTable(t)
             }

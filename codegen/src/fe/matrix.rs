@@ -220,22 +220,13 @@ pub fn read_matrix(
     what: &str,
     order: usize,
 ) -> Result<(DMatrix<f64>, Storage), FeError> {
-    let bytes = crate::limits::read_input(
+    let text = super::read_text(
         path,
+        shown,
         MAX_MATRIX_BYTES,
         "Matrix Market file",
         "MAX_MATRIX_BYTES",
-    )
-    .map_err(|e| FeError::file(shown, e))?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        FeError::file(
-            shown,
-            format!(
-                "is not UTF-8 text (at byte {})",
-                e.utf8_error().valid_up_to()
-            ),
-        )
-    })?;
+    )?;
     read_matrix_str(&text, shown, what, order)
 }
 

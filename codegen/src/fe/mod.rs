@@ -81,6 +81,28 @@ impl FeError {
 }
 
 /// At most 40 characters of `s`, printable (for messages quoting a file).
+/// The text of the file `path`, at most `max` bytes (`what`, `constant`
+/// name the file and the limit in the refusal), UTF-8.
+fn read_text(
+    path: &std::path::Path,
+    shown: &str,
+    max: u64,
+    what: &str,
+    constant: &str,
+) -> Result<String, FeError> {
+    let bytes = crate::limits::read_input(path, max, what, constant)
+        .map_err(|e| FeError::file(shown, e))?;
+    String::from_utf8(bytes).map_err(|e| {
+        FeError::file(
+            shown,
+            format!(
+                "is not UTF-8 text (at byte {})",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
+}
+
 fn excerpt(s: &str) -> String {
     let cut: String = s.chars().take(40).collect();
     let more = if cut.len() < s.len() { "…" } else { "" };

@@ -12,17 +12,7 @@ pub const MAX_NODE_BYTES: u64 = 1 << 20;
 /// exactly `x,y,z` (spaces around names allowed), lines starting with `#`
 /// are comments, every field a finite number, 1 to [`MAX_FE_NODES`] rows.
 pub fn read_nodes(path: &Path, shown: &str) -> Result<Vec<Vector3<f64>>, FeError> {
-    let bytes = crate::limits::read_input(path, MAX_NODE_BYTES, "node file", "MAX_NODE_BYTES")
-        .map_err(|e| FeError::file(shown, e))?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        FeError::file(
-            shown,
-            format!(
-                "is not UTF-8 text (at byte {})",
-                e.utf8_error().valid_up_to()
-            ),
-        )
-    })?;
+    let text = super::read_text(path, shown, MAX_NODE_BYTES, "node file", "MAX_NODE_BYTES")?;
     read_nodes_str(&text, shown)
 }
 

@@ -11,7 +11,6 @@ use super::results;
 use super::run::CaseResult;
 use super::study::Study;
 use crate::progress::Reporter;
-use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
@@ -20,6 +19,13 @@ pub const DRIVER: &str = include_str!("dask_driver.py");
 
 /// The start of the driver's line for a finished case (then its JSON).
 const CASE_LINE: &str = "FFR-CASE ";
+
+/// The longest line of the driver's output read (a case line carries the
+/// case's JSON and the last 4000 characters of its standard error).
+const MAX_LINE: u64 = 16 << 20;
+
+/// The driver's standard error kept for messages.
+const MAX_STDERR: u64 = 1 << 20;
 
 /// How to reach the cluster.
 #[derive(Clone, Debug)]
@@ -72,21 +78,40 @@ pub fn run(
     // Standard error is read on its own thread so that neither pipe fills.
     let mut stderr = child.stderr.take().expect("piped");
     let err_thread = std::thread::spawn(move || {
-        let mut s = String::new();
-        let _ = std::io::Read::read_to_string(&mut stderr, &mut s);
-        s
+        use std::io::Read;
+        // The first MAX_STDERR bytes are kept for the message; the rest is
+        // read and dropped, so the pipe never fills.
+        let mut kept = Vec::new();
+        let _ = (&mut stderr).take(MAX_STDERR).read_to_end(&mut kept);
+        let _ = std::io::copy(&mut stderr, &mut std::io::sink());
+        String::from_utf8_lossy(&kept).into_owned()
     });
     let stdout = child.stdout.take().expect("piped");
     let mut rows: Vec<Option<CaseResult>> = vec![None; n];
     let mut bad: Option<String> = None;
-    for line in std::io::BufReader::new(stdout).lines() {
-        let line = match line {
-            Ok(l) => l,
+    let mut reader = std::io::BufReader::new(stdout);
+    let mut buf = Vec::new();
+    loop {
+        use std::io::{BufRead, Read};
+        buf.clear();
+        // One line, at most MAX_LINE bytes of it.
+        match (&mut reader).take(MAX_LINE).read_until(b'\n', &mut buf) {
+            Ok(0) => break,
+            Ok(_) if buf.last() != Some(&b'\n') && buf.len() as u64 == MAX_LINE => {
+                bad.get_or_insert(format!(
+                    "a line of the Dask driver's output is longer than {MAX_LINE} bytes"
+                ));
+                let _ = std::io::copy(&mut reader, &mut std::io::sink());
+                break;
+            }
+            Ok(_) => {}
             Err(e) => {
                 bad.get_or_insert(format!("reading the Dask driver's output: {e}"));
                 break;
             }
-        };
+        }
+        let line = String::from_utf8_lossy(&buf);
+        let line = line.trim_end_matches(['\n', '\r']);
         // Only the driver's own lines; anything else a library printed is not ours.
         let Some(json) = line.strip_prefix(CASE_LINE) else {
             continue;
