@@ -178,6 +178,9 @@ fn out_name(a: OutArr) -> &'static str {
         OutArr::S => "s",
         OutArr::Psi => "psi",
         OutArr::Coef => "c",
+        OutArr::Z => "z",
+        OutArr::Gz => "g",
+        OutArr::Hz => "h",
     }
 }
 
@@ -444,6 +447,14 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str, layout: Layout) -> String {
             continue;
         };
         let mut v = Views::new(p, n, nc);
+        // `elastic_scalars` returns how many scalars it writes.
+        let scalar_count = format!(
+            "{}\n",
+            set.polys
+                .energy_form
+                .as_ref()
+                .map_or(0, |e| e.scalars.len())
+        );
         let (signature, tail) = match kind {
             KernelKind::Coefficients => {
                 writeln!(v.outputs, "let c: &mut [f64; {nc}] = c.try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
@@ -548,6 +559,26 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str, layout: Layout) -> String {
                 v.input("q", "q", |s| matches!(s, Sym::Q(_)));
                 v.output(OutArr::Fe, "f_e", n);
                 ("fn force_elastic(&self, c: &[f64], q: &[f64], f_e: &mut [f64], _scratch: &mut [f64]) -> bool".to_string(), "true\n")
+            }
+            KernelKind::ElasticScalars => {
+                v.coef();
+                v.input("q", "q", |s| matches!(s, Sym::Q(_)));
+                v.output(OutArr::Z, "z", n);
+                ("fn elastic_scalars(&self, c: &[f64], q: &[f64], z: &mut [f64], _scratch: &mut [f64]) -> usize".to_string(), scalar_count.as_str())
+            }
+            KernelKind::ScalarForce => {
+                v.coef();
+                // The scalars are this kernel's inputs: `q{j}` reads `z[j]`.
+                v.input("q", "z", |s| matches!(s, Sym::Q(_)));
+                v.output(OutArr::Gz, "g", n);
+                ("fn scalar_force(&self, c: &[f64], z: &[f64], g: &mut [f64], _scratch: &mut [f64]) -> bool".to_string(), "true\n")
+            }
+            KernelKind::ScalarTangent => {
+                v.coef();
+                v.input("q", "z", |s| matches!(s, Sym::Q(_)));
+                v.output(OutArr::Gz, "g", n);
+                v.output(OutArr::Hz, "h", n * n);
+                ("fn scalar_tangent(&self, c: &[f64], z: &[f64], g: &mut [f64], h: &mut [f64], _scratch: &mut [f64]) -> bool".to_string(), "true\n")
             }
         };
         kernel_fn(&mut s, layout, p, &signature, &v, tail);

@@ -113,6 +113,12 @@ pub enum OutArr {
     Psi,
     /// Parameter-only coefficients (the coefficient program).
     Coef,
+    /// The element scalars `z` of the stiffening energy (at most n).
+    Z,
+    /// `∂U_nl/∂z` (at most n).
+    Gz,
+    /// `∂²U_nl/∂z²` (row-major with stride n).
+    Hz,
 }
 
 /// One output: an array entry and its polynomial.
@@ -145,6 +151,14 @@ pub struct KernelPolys {
     pub tangent_elastic: Outputs,
     /// `force_elastic`: `K_e q + ∇U_nl` alone (stiffening models only).
     pub force_elastic: Option<Outputs>,
+    /// `elastic_scalars`: `z = S q`, the energy's element scalars
+    /// (stiffening models only).
+    pub elastic_scalars: Option<Outputs>,
+    /// `scalar_force`: `∂U_nl/∂z` with the scalars as inputs (`Sym::Q(j)`
+    /// stands for `z_j`).
+    pub scalar_force: Option<Outputs>,
+    /// `scalar_tangent`: `∂U_nl/∂z` and `∂²U_nl/∂z²`.
+    pub scalar_tangent: Option<Outputs>,
     /// `energy(q)`.
     pub energy: Outputs,
     /// `element_invariants(x₀)`.
@@ -533,6 +547,55 @@ impl KernelModel {
             (None, None)
         };
 
+        // The stiffening energy in its element scalars, with the scalars as
+        // the inputs (`Sym::Q(j)` stands for `z_j`): a modal body maps
+        // `η` to each element's scalars once (`z = S Φ_e η`) and needs only
+        // the energy's derivatives in them.
+        let (elastic_scalars, scalar_force, scalar_tangent) = match &energy_form {
+            Some(ef) if ef.scalars.len() <= n => {
+                let nz = ef.scalars.len();
+                let mut map = Outputs::new();
+                for (j, form) in ef.scalars.iter().enumerate() {
+                    push(&mut map, OutArr::Z, j, linear(form, q));
+                }
+                let mut zs: Vec<Sym> = (0..nz).map(q).collect();
+                let rename = |p: &Poly, zs: &[Sym]| {
+                    p.rename(|s| match s {
+                        Sym::Z(j) => Some(zs[j as usize]),
+                        other => Some(other),
+                    })
+                };
+                for (name, def) in &ef.derived {
+                    let d = rename(def, &zs);
+                    let b = dag.bind_always(&format!("{name}_of_z"), d);
+                    zs.push(match b.terms().next().map(|(m, _)| m.factors()) {
+                        Some([(s, 1)]) => *s,
+                        _ => unreachable!("bind_always returns a symbol"),
+                    });
+                }
+                let e = rename(&ef.energy, &zs);
+                let e = dag.bind_always("u_nl_of_z", e);
+                let grad: Vec<Poly> = (0..nz).map(|j| dag.derivative(&e, q(j))).collect();
+                let mut force = Outputs::new();
+                for (j, g) in grad.iter().enumerate() {
+                    push(&mut force, OutArr::Gz, j, g.clone());
+                }
+                let mut tan = force.clone();
+                for a in 0..nz {
+                    for b in a..nz {
+                        let h = dag.derivative(&grad[a], q(b));
+                        let h = dag.bind(&format!("h_z_{a}_{b}"), h);
+                        push(&mut tan, OutArr::Hz, a * n + b, h.clone());
+                        if a != b {
+                            push(&mut tan, OutArr::Hz, b * n + a, h);
+                        }
+                    }
+                }
+                (Some(map), Some(force), Some(tan))
+            }
+            _ => (None, None, None),
+        };
+
         let element_invariants = invariant_outputs(&inv);
         let point_shape = point_shape_outputs(&self.shape);
         Ok(KernelPolys {
@@ -547,6 +610,9 @@ impl KernelModel {
             residual_elastic,
             tangent_elastic,
             force_elastic,
+            elastic_scalars,
+            scalar_force,
+            scalar_tangent,
             energy,
             element_invariants,
             point_shape,

@@ -40,6 +40,12 @@ pub struct KernelSet {
     pub point_shape: Program,
     /// `force_elastic(q)` (stiffening models only).
     pub force_elastic: Option<Program>,
+    /// `elastic_scalars(q)` (stiffening models only).
+    pub elastic_scalars: Option<Program>,
+    /// `scalar_force(z)` (stiffening models only).
+    pub scalar_force: Option<Program>,
+    /// `scalar_tangent(z)` (stiffening models only).
+    pub scalar_tangent: Option<Program>,
 }
 
 impl KernelSet {
@@ -68,6 +74,9 @@ impl KernelSet {
             KernelKind::ElementInvariants => Some(&self.element_invariants),
             KernelKind::PointShape => Some(&self.point_shape),
             KernelKind::ForceElastic => self.force_elastic.as_ref(),
+            KernelKind::ElasticScalars => self.elastic_scalars.as_ref(),
+            KernelKind::ScalarForce => self.scalar_force.as_ref(),
+            KernelKind::ScalarTangent => self.scalar_tangent.as_ref(),
         }
     }
 
@@ -111,6 +120,9 @@ pub fn generate_kernels(model: &KernelModel) -> Result<KernelSet, Error> {
     let element_invariants = build(&polys.element_invariants);
     let point_shape = build(&polys.point_shape);
     let force_elastic = polys.force_elastic.as_ref().map(&mut build);
+    let elastic_scalars = polys.elastic_scalars.as_ref().map(&mut build);
+    let scalar_force = polys.scalar_force.as_ref().map(&mut build);
+    let scalar_tangent = polys.scalar_tangent.as_ref().map(&mut build);
     let (coefficient_program, section_moments, section_coefficient_program) = match model.sections {
         SectionModel::Uniform => (coefficients.program(), Vec::new(), None),
         SectionModel::Varying => {
@@ -134,6 +146,9 @@ pub fn generate_kernels(model: &KernelModel) -> Result<KernelSet, Error> {
         element_invariants,
         point_shape,
         force_elastic,
+        elastic_scalars,
+        scalar_force,
+        scalar_tangent,
     })
 }
 

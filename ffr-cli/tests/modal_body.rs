@@ -80,6 +80,9 @@ fn all_modes_reproduce_the_full_body(shape: &str, elements: usize, planar_frame:
         ..ModalSettings::truncation(nf)
     };
     let modal = modal_body(&spec, &settings).unwrap();
+    // The stiffening runs through the element scalars (what this test
+    // checks against the full body).
+    assert!(modal.uses_element_scalars());
     let k = modal.layout().nf;
     assert_eq!(k, nf, "every elastic mode of a clamped body");
     let phi = modal.data().phi.clone();
@@ -357,11 +360,102 @@ fn spin_up_with_modes_converges_to_the_full_body() {
     assert!(pure_peak < 0.5 * peak, "{pure_peak} vs {peak}");
 }
 
+/// The element-scalar kernels of a set with stiffening against its other
+/// kernels: with `S` the map `elastic_scalars` gives (read off unit
+/// vectors), `K_e` the tangent at rest (`∇²U_nl(0) = 0`: the stiffening
+/// energies are cubic and quartic), `f_el` = `force_elastic(q)`:
+/// `f_el = K_e q + Sᵀ g(S q)` (`scalar_force`), and the tangent at `q`
+/// equals `K_e + Sᵀ H(S q) S` (`scalar_tangent`, whose `g` is
+/// `scalar_force`'s).
+fn check_element_scalars(
+    k: &dyn ffr::runtime::ElementKernels,
+    c: &[f64],
+    q: &[f64],
+    f_el: &[f64],
+    s: &mut [f64],
+    what: &str,
+) {
+    use ffr::runtime::KernelInput;
+    let n = q.len();
+    let mut z = vec![0.0; n];
+    let nz = k.elastic_scalars(c, q, &mut z, s);
+    assert!(nz > 0 && nz <= n, "{what}: {nz} element scalars");
+    // S, column by column.
+    let mut sm = vec![vec![0.0; n]; nz];
+    for a in 0..n {
+        let mut e = vec![0.0; n];
+        e[a] = 1.0;
+        let mut za = vec![0.0; n];
+        assert_eq!(k.elastic_scalars(c, &e, &mut za, s), nz);
+        for j in 0..nz {
+            sm[j][a] = za[j];
+        }
+    }
+    for j in 0..nz {
+        let sq: f64 = (0..n).map(|a| sm[j][a] * q[a]).sum();
+        assert!(
+            (sq - z[j]).abs() <= 1e-14 * (1.0 + sq.abs()),
+            "{what}: z[{j}] is not S q"
+        );
+    }
+    let zero = vec![0.0; n];
+    let tangent_at = |qq: &[f64], s: &mut [f64]| {
+        let x = KernelInput {
+            x0: 8.0 / 3.0,
+            q: qq,
+            qd: &zero,
+            qdd: &zero,
+            frame: &[0.0; 9],
+        };
+        let (mut f, mut kt) = (vec![0.0; n], vec![0.0; n * n]);
+        k.tangent_elastic(c, &x, 0.0, 0.0, &mut f, &mut kt, s);
+        kt
+    };
+    let k_e = tangent_at(&zero, s);
+    let mut g = vec![0.0; n];
+    assert!(k.scalar_force(c, &z, &mut g, s), "{what}: scalar_force");
+    let scale = f_el.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for a in 0..n {
+        let lin: f64 = (0..n).map(|b| k_e[a * n + b] * q[b]).sum();
+        let nl: f64 = (0..nz).map(|j| sm[j][a] * g[j]).sum();
+        assert!(
+            (lin + nl - f_el[a]).abs() <= 1e-12 * scale,
+            "{what}: K_e q + Sᵀ g at {a}: {} against force_elastic {}",
+            lin + nl,
+            f_el[a]
+        );
+    }
+    let (mut g2, mut h) = (vec![0.0; n], vec![0.0; n * n]);
+    assert!(
+        k.scalar_tangent(c, &z, &mut g2, &mut h, s),
+        "{what}: scalar_tangent"
+    );
+    assert_eq!(g, g2, "{what}: the two kernels' gradients");
+    let k_t = tangent_at(q, s);
+    let kscale = k_t.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for a in 0..n {
+        for b in 0..n {
+            let mut v = k_e[a * n + b];
+            for i in 0..nz {
+                for j in 0..nz {
+                    v += sm[i][a] * h[i * n + j] * sm[j][b];
+                }
+            }
+            assert!(
+                (v - k_t[a * n + b]).abs() <= 1e-12 * kscale,
+                "{what}: K_e + Sᵀ H S at ({a}, {b}): {v} against the tangent {}",
+                k_t[a * n + b]
+            );
+        }
+    }
+}
+
 /// `force_elastic` (the elastic force alone, generated for the stiffening
 /// models; a modal body's stiffening calls it at `q_f = Φ η`) is what
 /// `residual_elastic` gives at rest (`q̇ = q̈ = 0`, frame at rest), for every
 /// built-in kernel set, compiled and on tapes, element by element and
-/// through the body (`Body::elastic_force` against `Body::forces`); models
+/// through the body (`Body::elastic_force` against `Body::forces`); the
+/// element-scalar kernels agree with both (`check_element_scalars`); models
 /// without stiffening report that they have none.
 #[test]
 fn force_elastic_is_the_residual_at_rest() {
@@ -418,6 +512,7 @@ fn force_elastic_is_the_residual_at_rest() {
                                     r[i]
                                 );
                             }
+                            check_element_scalars(&k, &c, &q, &a, &mut s, &what);
                             // Through the body.
                             let body = b.body().unwrap();
                             let nf = body.layout().nf;

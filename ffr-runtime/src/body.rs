@@ -414,6 +414,59 @@ pub trait Body: Send + Sync {
         let _ = (q_f, w, f_f);
         false
     }
+
+    /// The stiffening energy of the body's elements in their element
+    /// scalars (`ElementKernels::elastic_scalars`, `docs/theory.md`
+    /// "Geometric stiffening"): `U_nl = Σ_e U_e(z_e)`, `z_e = S_e q_e`
+    /// linear in the element's coordinates. `None` (the default): not
+    /// available; a modal body then projects [`Body::elastic_force`].
+    fn scalar_layout(&self) -> Option<ScalarLayout> {
+        None
+    }
+
+    /// Element `e`'s scalars `z_e = S_e q_e` at the body coordinates
+    /// `q_f`, into `z[..scalars]` (`z` has [`ScalarLayout::local`] entries).
+    /// Only for a body with a [`Body::scalar_layout`].
+    fn element_scalars(&self, e: usize, q_f: &[f64], w: &mut BodyWork, z: &mut [f64]) {
+        let _ = (e, q_f, w, z);
+        unimplemented!("element_scalars of a body without scalar_layout")
+    }
+
+    /// `g = ∂U_e/∂z` of element `e` at its scalars `z` (overwritten, `local`
+    /// entries) and, with `h`, `∂²U_e/∂z²` (overwritten, `local × local`
+    /// row-major). `false`: not available (no [`Body::scalar_layout`]).
+    fn scalar_derivatives(
+        &self,
+        e: usize,
+        z: &[f64],
+        w: &mut BodyWork,
+        g: &mut [f64],
+        h: Option<&mut [f64]>,
+    ) -> bool {
+        let _ = (e, z, w, g, h);
+        false
+    }
+
+    /// [`Body::scalar_derivatives`] of every element at once, without the
+    /// Hessian: `g_all[j E + e] = ∂U_e/∂z_j` at `z_all[j E + e]` (`E`
+    /// elements, `n_z` scalars each; `g_all` overwritten). `false`: not
+    /// available.
+    fn scalar_forces(&self, z_all: &[f64], w: &mut BodyWork, g_all: &mut [f64]) -> bool {
+        let _ = (z_all, w, g_all);
+        false
+    }
+}
+
+/// How a body's stiffening energy splits into element scalars
+/// ([`Body::scalar_layout`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ScalarLayout {
+    /// Number of elements.
+    pub elements: usize,
+    /// Scalars per element, `n_z`.
+    pub scalars: usize,
+    /// The length of the scalar arrays (the element's coordinates, `n ≥ n_z`).
+    pub local: usize,
 }
 
 impl<B: Body + ?Sized> Body for Box<B> {
@@ -428,6 +481,25 @@ impl<B: Body + ?Sized> Body for Box<B> {
     }
     fn elastic_force(&self, q_f: &[f64], w: &mut BodyWork, f_f: &mut [f64]) -> bool {
         (**self).elastic_force(q_f, w, f_f)
+    }
+    fn scalar_layout(&self) -> Option<ScalarLayout> {
+        (**self).scalar_layout()
+    }
+    fn element_scalars(&self, e: usize, q_f: &[f64], w: &mut BodyWork, z: &mut [f64]) {
+        (**self).element_scalars(e, q_f, w, z)
+    }
+    fn scalar_derivatives(
+        &self,
+        e: usize,
+        z: &[f64],
+        w: &mut BodyWork,
+        g: &mut [f64],
+        h: Option<&mut [f64]>,
+    ) -> bool {
+        (**self).scalar_derivatives(e, z, w, g, h)
+    }
+    fn scalar_forces(&self, z_all: &[f64], w: &mut BodyWork, g_all: &mut [f64]) -> bool {
+        (**self).scalar_forces(z_all, w, g_all)
     }
     fn tangent(
         &self,

@@ -218,6 +218,39 @@ pub trait ElementKernels: Send + Sync {
         let _ = (c, q, f_e, scratch);
         false
     }
+
+    /// The element scalars of the stiffening energy, `z = S q` (linear
+    /// forms in the element coordinates: the slopes' coefficients,
+    /// `docs/theory.md` "Geometric stiffening"), into `z[..n_z]` (`z` has
+    /// `n` entries); returns `n_z`. `0` (and `z` untouched) when the kernels
+    /// were generated without them (no stiffening).
+    fn elastic_scalars(&self, c: &[f64], q: &[f64], z: &mut [f64], scratch: &mut [f64]) -> usize {
+        let _ = (c, q, z, scratch);
+        0
+    }
+
+    /// `g = ∂U_nl/∂z` at the element scalars `z` (`n` entries each, the
+    /// first `n_z` used; writes the non-zero entries of `g`, zero it
+    /// first). `false` when not generated.
+    fn scalar_force(&self, c: &[f64], z: &[f64], g: &mut [f64], scratch: &mut [f64]) -> bool {
+        let _ = (c, z, g, scratch);
+        false
+    }
+
+    /// `g = ∂U_nl/∂z` and `h = ∂²U_nl/∂z²` (row-major with stride `n`,
+    /// symmetric) at `z`; writes the non-zero entries (zero both first).
+    /// `false` when not generated.
+    fn scalar_tangent(
+        &self,
+        c: &[f64],
+        z: &[f64],
+        g: &mut [f64],
+        h: &mut [f64],
+        scratch: &mut [f64],
+    ) -> bool {
+        let _ = (c, z, g, h, scratch);
+        false
+    }
 }
 
 /// A body generated with a fixed mesh (`#[flex_body]`, `Builder::body`):
@@ -317,6 +350,22 @@ macro_rules! forward_element_kernels {
             }
             fn force_elastic(&self, c: &[f64], q: &[f64], f_e: &mut [f64], s: &mut [f64]) -> bool {
                 $dispatch!(self, k => k.force_elastic(c, q, f_e, s))
+            }
+            fn elastic_scalars(&self, c: &[f64], q: &[f64], z: &mut [f64], s: &mut [f64]) -> usize {
+                $dispatch!(self, k => k.elastic_scalars(c, q, z, s))
+            }
+            fn scalar_force(&self, c: &[f64], z: &[f64], g: &mut [f64], s: &mut [f64]) -> bool {
+                $dispatch!(self, k => k.scalar_force(c, z, g, s))
+            }
+            fn scalar_tangent(
+                &self,
+                c: &[f64],
+                z: &[f64],
+                g: &mut [f64],
+                h: &mut [f64],
+                s: &mut [f64],
+            ) -> bool {
+                $dispatch!(self, k => k.scalar_tangent(c, z, g, h, s))
             }
         }
     };

@@ -11,7 +11,7 @@
 use crate::attached::Attachment;
 use crate::body::{
     Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork, Invariants,
-    PointShape,
+    PointShape, ScalarLayout,
 };
 use crate::error::{Error, Result};
 use crate::kernel::{
@@ -57,9 +57,14 @@ struct Scratch {
 
 impl Scratch {
     fn len(&self) -> usize {
-        let n = self.ne;
-        4 * n + n * n + 9 * n + 6 * n + 54 + 6 + self.kernel
+        kernel_scratch_at(self.ne) + self.kernel
     }
+}
+
+/// Where the kernels' own scratch starts in a [`KernelBody`]'s work buffer
+/// (after `q, q̇, q̈, f_e, K_ee` and the frame blocks).
+const fn kernel_scratch_at(n: usize) -> usize {
+    4 * n + n * n + 9 * n + 6 * n + 54 + 6
 }
 
 impl<K: ElementKernels> KernelBody<K> {
@@ -508,6 +513,71 @@ impl<K: ElementKernels> Body for KernelBody<K> {
                 return false;
             }
             scatter(fe, f_f, map);
+        }
+        true
+    }
+
+    fn scalar_layout(&self) -> Option<ScalarLayout> {
+        let ne = self.ne;
+        let mut w = self.work();
+        let (q, rest) = w.buf.split_at_mut(ne);
+        let (z, rest) = rest.split_at_mut(ne);
+        let ks = &mut rest[kernel_scratch_at(ne) - 2 * ne..];
+        let scalars = self.kernels.elastic_scalars(self.coef_of(0), q, z, ks);
+        (scalars > 0 && scalars <= ne && self.elements > 0).then_some(ScalarLayout {
+            elements: self.elements,
+            scalars,
+            local: ne,
+        })
+    }
+
+    fn element_scalars(&self, e: usize, q_f: &[f64], w: &mut BodyWork, z: &mut [f64]) {
+        let ne = self.ne;
+        let (q, rest) = w.buf.split_at_mut(ne);
+        let ks = &mut rest[kernel_scratch_at(ne) - ne..];
+        gather(q, q_f, self.map(e));
+        self.kernels.elastic_scalars(self.coef_of(e), q, z, ks);
+    }
+
+    fn scalar_derivatives(
+        &self,
+        e: usize,
+        z: &[f64],
+        w: &mut BodyWork,
+        g: &mut [f64],
+        h: Option<&mut [f64]>,
+    ) -> bool {
+        let ks = &mut w.buf[kernel_scratch_at(self.ne)..];
+        g.iter_mut().for_each(|x| *x = 0.0);
+        match h {
+            None => self.kernels.scalar_force(self.coef_of(e), z, g, ks),
+            Some(h) => {
+                h.iter_mut().for_each(|x| *x = 0.0);
+                self.kernels.scalar_tangent(self.coef_of(e), z, g, h, ks)
+            }
+        }
+    }
+
+    fn scalar_forces(&self, z_all: &[f64], w: &mut BodyWork, g_all: &mut [f64]) -> bool {
+        let (ne, elements) = (self.ne, self.elements);
+        let (z, rest) = w.buf.split_at_mut(ne);
+        let (g, rest) = rest.split_at_mut(ne);
+        let ks = &mut rest[kernel_scratch_at(ne) - 2 * ne..];
+        let nz = z_all.len() / elements.max(1);
+        if nz > ne || z_all.len() != nz * elements || g_all.len() != z_all.len() {
+            return false;
+        }
+        for e in 0..elements {
+            for j in 0..nz {
+                z[j] = z_all[j * elements + e];
+                g[j] = 0.0;
+            }
+            if !self.kernels.scalar_force(self.coef_of(e), z, g, ks) {
+                return false;
+            }
+            for j in 0..nz {
+                g_all[j * elements + e] = g[j];
+            }
         }
         true
     }

@@ -40,7 +40,7 @@ pub mod tape;
 pub use assembly::Assembly;
 pub use body::{
     sample_bits, BandBuf, Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork,
-    InnerWork, Invariants, PointShape,
+    InnerWork, Invariants, PointShape, ScalarLayout,
 };
 pub use driver::Driver;
 pub use error::{Error, Result};

@@ -17,7 +17,7 @@
 
 use crate::body::{
     BandBuf, Body, BodyForces, BodyLayout, BodyMass, BodyState, BodyTangent, BodyWork, InnerWork,
-    Invariants, PointShape,
+    Invariants, PointShape, ScalarLayout,
 };
 use crate::error::{Error, Result};
 use crate::inertia::{bilinear, dot_slices, InertiaTerms, Inputs};
@@ -154,6 +154,99 @@ pub struct ModalBody {
     /// `Φ` row-major (row `i`, the modes' values at coordinate `i`,
     /// contiguous), for the tangent's `K_t Φ` and `Φᵀ (K_t Φ)`.
     phi_rows: Vec<f64>,
+    /// The stiffening through the full body's element scalars, when its
+    /// kernels have them ([`ScalarMaps`]); otherwise [`Body::elastic_force`]
+    /// at `Φ η`, projected.
+    scalars: Option<ScalarMaps>,
+}
+
+/// Each element's scalars as linear forms in the modes, `z_e = Z_e η` with
+/// `Z_e = S_e Φ_e` (`docs/theory.md`, "Modal bodies"). The modes are
+/// taken in an order that groups them by the scalars they reach (`perm`;
+/// e.g. a straight beam's axial modes reach only the axial slope, its
+/// bending modes only the bending slopes, as the modes are exactly zero
+/// outside their group), so that scalar `j` of every element reads one
+/// contiguous range of the permuted modes, `lo[j]..lo[j] + len[j]`. Scalar
+/// `j`'s rows of all elements are stored as one matrix, column-major
+/// (elements × `len[j]`): the scalars of all elements are then a few
+/// matrix–vector products with unit stride, and so are their forces.
+#[derive(Clone, Debug)]
+struct ScalarMaps {
+    layout: ScalarLayout,
+    /// `perm[p]`: the mode at permuted position `p`.
+    perm: Vec<usize>,
+    lo: Vec<usize>,
+    len: Vec<usize>,
+    /// `cols[j][d E + e] = Z_e[j, perm[lo[j] + d]]`, `E` elements.
+    cols: Vec<Vec<f64>>,
+}
+
+impl ScalarMaps {
+    /// The maps of `inner`'s element scalars through `phi` (`None`: the
+    /// body has no element scalars). Allocates; at construction only.
+    fn new(inner: &dyn Body, phi: &DMatrix<f64>) -> Option<Self> {
+        let layout = inner.scalar_layout()?;
+        let (n, k) = phi.shape();
+        let (ne, nz) = (layout.elements, layout.scalars);
+        let mut w = inner.work();
+        let mut z = vec![0.0; layout.local];
+        let mut g = vec![0.0; layout.local];
+        let mut h = vec![0.0; layout.local * layout.local];
+        if !inner.scalar_derivatives(0, &z, &mut w, &mut g, Some(&mut h)) {
+            return None;
+        }
+        // dense[(e n_z + j) k + c] = Z_e[j, c].
+        let mut dense = vec![0.0; ne * nz * k];
+        let mut col = vec![0.0; n];
+        for c in 0..k {
+            col.copy_from_slice(phi.column(c).as_slice());
+            for e in 0..ne {
+                z.iter_mut().for_each(|x| *x = 0.0);
+                inner.element_scalars(e, &col, &mut w, &mut z);
+                for j in 0..nz {
+                    dense[(e * nz + j) * k + c] = z[j];
+                }
+            }
+        }
+        let reaches = |j: usize, c: usize| (0..ne).any(|e| dense[(e * nz + j) * k + c] != 0.0);
+        // Each mode's signature, the scalars it reaches in any element;
+        // modes sorted by signature (ties keep their order).
+        let sigs: Vec<Vec<bool>> = (0..k)
+            .map(|c| (0..nz).map(|j| reaches(j, c)).collect())
+            .collect();
+        let mut perm: Vec<usize> = (0..k).collect();
+        perm.sort_by(|a, b| sigs[*b].cmp(&sigs[*a]).then(a.cmp(b)));
+        let (mut lo, mut len, mut cols) = (Vec::new(), Vec::new(), Vec::new());
+        for j in 0..nz {
+            let used: Vec<usize> = (0..k).filter(|p| reaches(j, perm[*p])).collect();
+            let (first, last) = match (used.first(), used.last()) {
+                (Some(f), Some(l)) => (*f, *l + 1),
+                _ => (0, 0),
+            };
+            let mut m = Vec::with_capacity((last - first) * ne);
+            for p in first..last {
+                m.extend((0..ne).map(|e| dense[(e * nz + j) * k + perm[p]]));
+            }
+            lo.push(first);
+            len.push(last - first);
+            cols.push(m);
+        }
+        Some(Self {
+            layout,
+            perm,
+            lo,
+            len,
+            cols,
+        })
+    }
+
+    /// Scratch after the full-elastic part: `z`, `g`, `h`, `η` and `f`
+    /// permuted, one row of `H Z_e`, the tangent's accumulator, the
+    /// scalars of all elements and their forces.
+    fn work_len(&self, k: usize) -> usize {
+        let l = self.layout.local;
+        2 * l + l * l + 3 * k + k * k + 2 * self.layout.scalars * self.layout.elements
+    }
 }
 
 impl std::fmt::Debug for ModalBody {
@@ -234,12 +327,18 @@ impl ModalBody {
             description: data.description.clone(),
         };
         let terms = InertiaTerms::new(data.invariants.clone(), !data.stiffening, planar);
+        let scalars = if data.stiffening {
+            ScalarMaps::new(&*inner, &data.phi)
+        } else {
+            None
+        };
         Ok(Self {
             inner,
             layout,
             terms,
             identity: (0..k).collect(),
             phi_rows: data.phi.transpose().as_slice().to_vec(),
+            scalars,
             data,
         })
     }
@@ -367,6 +466,151 @@ impl ModalBody {
     }
 }
 
+impl ModalBody {
+    /// Whether the stiffening runs through the full body's element scalars
+    /// (`true`) or its elastic force at `Φ η` (`false`; also without
+    /// stiffening).
+    pub fn uses_element_scalars(&self) -> bool {
+        self.scalars.is_some()
+    }
+
+    /// Adds the elastic force in the modes to `f`, and with `k_t` its
+    /// tangent: `K̃ η + Σ_e Z_eᵀ ∂U_e/∂z (Z_e η)` and `K̃ + Σ_e Z_eᵀ
+    /// ∂²U_e/∂z² Z_e`, `K̃ = Φᵀ K_ff Φ` (the same as `Φᵀ f_el(Φ η)` and
+    /// `Φᵀ K_t Φ`: `U_nl = Σ_e U_e(S_e q_e)` with `q_e = Φ_e η`). The
+    /// scalars of all elements by unit-stride matrix–vector products, one
+    /// call of the generated `scalar_force` (`scalar_tangent`) per element,
+    /// the forces back by the transposed products; no `q_f = Φ η`.
+    fn scalar_elastic(
+        &self,
+        sm: &ScalarMaps,
+        eta: &[f64],
+        w: &mut BodyWork,
+        f: &mut [f64],
+        k_t: Option<&mut BandBuf>,
+    ) {
+        let k = self.layout.nf;
+        let n = self.inner.layout().nf;
+        let (l, nz, ne) = (sm.layout.local, sm.layout.scalars, sm.layout.elements);
+        // K̃ η: K̃ symmetric, column a (contiguous) is row a.
+        let kff = self.data.invariants.k_ff.as_slice();
+        for (a, fa) in f.iter_mut().enumerate() {
+            *fa += dot_slices(&kff[a * k..(a + 1) * k], eta);
+        }
+        let (_, rest) = w.buf.split_at_mut(n * (2 + k) + k * k);
+        let (z, rest) = rest.split_at_mut(l);
+        let (g, rest) = rest.split_at_mut(l);
+        let (h, rest) = rest.split_at_mut(l * l);
+        let (eta_p, rest) = rest.split_at_mut(k);
+        let (f_p, rest) = rest.split_at_mut(k);
+        let (t, rest) = rest.split_at_mut(k);
+        let (acc, rest) = rest.split_at_mut(k * k);
+        let (z_all, rest) = rest.split_at_mut(nz * ne);
+        let g_all = &mut rest[..nz * ne];
+        let iw = w
+            .inner
+            .as_mut()
+            .expect("ModalBody::work gives the full body's scratch");
+        for (p, &c) in sm.perm.iter().enumerate() {
+            eta_p[p] = eta[c];
+        }
+        // z_all[j E + e] = Σ_d Z_e[j, lo_j + d] η_p[lo_j + d].
+        z_all.iter_mut().for_each(|x| *x = 0.0);
+        for j in 0..nz {
+            let zj = &mut z_all[j * ne..(j + 1) * ne];
+            for (d, col) in sm.cols[j].chunks_exact(ne).enumerate() {
+                let x = eta_p[sm.lo[j] + d];
+                if x != 0.0 {
+                    for (o, v) in zj.iter_mut().zip(col) {
+                        *o += v * x;
+                    }
+                }
+            }
+        }
+        let tangent = k_t.is_some();
+        if tangent {
+            acc.iter_mut().for_each(|x| *x = 0.0);
+        }
+        // Without the tangent, all elements in one call.
+        let batched = !tangent && self.inner.scalar_forces(z_all, &mut iw.work, g_all);
+        for e in (0..ne).filter(|_| !batched) {
+            for j in 0..nz {
+                z[j] = z_all[j * ne + e];
+            }
+            let ok = self.inner.scalar_derivatives(
+                e,
+                z,
+                &mut iw.work,
+                g,
+                if tangent { Some(&mut *h) } else { None },
+            );
+            debug_assert!(ok, "the scalar kernels were checked at construction");
+            for j in 0..nz {
+                g_all[j * ne + e] = g[j];
+            }
+            if !tangent {
+                continue;
+            }
+            // Z_eᵀ H Z_e: for each scalar j, t = Σ_i H_ji Z_e[i, :], then
+            // the upper triangle gets Z_e[j, a] t[b], b ≥ a.
+            for j in 0..nz {
+                if sm.len[j] == 0 {
+                    continue;
+                }
+                t.iter_mut().for_each(|x| *x = 0.0);
+                for i in 0..nz {
+                    let hji = h[j * l + i];
+                    if hji != 0.0 {
+                        for d in 0..sm.len[i] {
+                            t[sm.lo[i] + d] += hji * sm.cols[i][d * ne + e];
+                        }
+                    }
+                }
+                for d in 0..sm.len[j] {
+                    let zja = sm.cols[j][d * ne + e];
+                    let a = sm.lo[j] + d;
+                    if zja != 0.0 {
+                        for (o, tb) in acc[a * k + a..(a + 1) * k].iter_mut().zip(&t[a..]) {
+                            *o += zja * tb;
+                        }
+                    }
+                }
+            }
+        }
+        // f_p[lo_j + d] += Σ_e Z_e[j, lo_j + d] g_e[j].
+        f_p.iter_mut().for_each(|x| *x = 0.0);
+        for j in 0..nz {
+            let gj = &g_all[j * ne..(j + 1) * ne];
+            for (d, col) in sm.cols[j].chunks_exact(ne).enumerate() {
+                f_p[sm.lo[j] + d] += dot_slices(col, gj);
+            }
+        }
+        for (p, &c) in sm.perm.iter().enumerate() {
+            f[c] += f_p[p];
+        }
+        let Some(k_t) = k_t else { return };
+        for a in 0..k {
+            let ca = sm.perm[a];
+            k_t.add(ca, ca, acc[a * k + a] + kff[ca * k + ca]);
+            for b in a + 1..k {
+                let cb = sm.perm[b];
+                let v = acc[a * k + b] + kff[ca * k + cb];
+                k_t.add(ca, cb, v);
+                k_t.add(cb, ca, v);
+            }
+        }
+    }
+
+    /// The elastic force (and tangent) of a stiffened modal body, by the
+    /// element scalars when available.
+    fn stiffening(&self, eta: &[f64], w: &mut BodyWork, f: &mut [f64], k_t: Option<&mut BandBuf>) {
+        match &self.scalars {
+            Some(sm) => self.scalar_elastic(sm, eta, w, f, k_t),
+            None => self.full_elastic(eta, w, f, k_t),
+        }
+    }
+}
+
 impl Body for ModalBody {
     fn layout(&self) -> &BodyLayout {
         &self.layout
@@ -379,8 +623,9 @@ impl Body for ModalBody {
         // q_f = Φ η, zero velocities and accelerations, K_t Φ, Φᵀ K_t Φ.
         let (n, hb) = (self.inner.layout().nf, self.inner.layout().half_bandwidth);
         let k = self.layout.nf;
+        let scalars = self.scalars.as_ref().map_or(0, |s| s.work_len(k));
         BodyWork {
-            buf: vec![0.0; n * (2 + k) + k * k],
+            buf: vec![0.0; n * (2 + k) + k * k + scalars],
             inner: Some(Box::new(InnerWork {
                 work: self.inner.work(),
                 forces: BodyForces::zeros(n),
@@ -394,7 +639,7 @@ impl Body for ModalBody {
         self.terms
             .add_forces(&Inputs::of(state), frame_rows, &self.identity, out);
         if self.data.stiffening {
-            self.full_elastic(state.q_f, w, &mut out.f_f, None);
+            self.stiffening(state.q_f, w, &mut out.f_f, None);
         }
     }
 
@@ -415,7 +660,7 @@ impl Body for ModalBody {
         self.terms
             .add_tangent(&x, bp, gp, frame_rows, &self.identity, t);
         if self.data.stiffening {
-            self.full_elastic(state.q_f, w, &mut out.f_f, Some(&mut t.k_ff));
+            self.stiffening(state.q_f, w, &mut out.f_f, Some(&mut t.k_ff));
         }
     }
 

@@ -23,6 +23,8 @@ pub struct TapeKernels {
     /// One tape per [`KernelKind`] (`None`: not generated, the reference
     /// rows of a prescribed frame).
     tapes: [Option<Tape>; KernelKind::ALL.len()],
+    /// The stiffening energy's element scalars (`elastic_scalars`).
+    scalar_count: usize,
 }
 
 impl TapeKernels {
@@ -49,6 +51,11 @@ impl TapeKernels {
                 scratch,
             },
             section_moments: set.section_moments.clone(),
+            scalar_count: set
+                .elastic_scalars
+                .as_ref()
+                .and(set.polys.energy_form.as_ref())
+                .map_or(0, |e| e.scalars.len()),
             tapes,
         }
     }
@@ -287,6 +294,56 @@ impl ElementKernels for TapeKernels {
             ..Inputs::default()
         };
         run(t, &inputs, scratch, |_, i, v| f_e[i] = v);
+        true
+    }
+
+    fn elastic_scalars(&self, c: &[f64], q: &[f64], z: &mut [f64], scratch: &mut [f64]) -> usize {
+        let Some(t) = &self.tapes[KernelKind::ElasticScalars.index()] else {
+            return 0;
+        };
+        let inputs = Inputs {
+            coef: c,
+            q,
+            ..Inputs::default()
+        };
+        run(t, &inputs, scratch, |_, i, v| z[i] = v);
+        self.scalar_count
+    }
+
+    fn scalar_force(&self, c: &[f64], z: &[f64], g: &mut [f64], scratch: &mut [f64]) -> bool {
+        let Some(t) = &self.tapes[KernelKind::ScalarForce.index()] else {
+            return false;
+        };
+        let inputs = Inputs {
+            coef: c,
+            q: z,
+            ..Inputs::default()
+        };
+        run(t, &inputs, scratch, |_, i, v| g[i] = v);
+        true
+    }
+
+    fn scalar_tangent(
+        &self,
+        c: &[f64],
+        z: &[f64],
+        g: &mut [f64],
+        h: &mut [f64],
+        scratch: &mut [f64],
+    ) -> bool {
+        let Some(t) = &self.tapes[KernelKind::ScalarTangent.index()] else {
+            return false;
+        };
+        let inputs = Inputs {
+            coef: c,
+            q: z,
+            ..Inputs::default()
+        };
+        run(t, &inputs, scratch, |arr, i, v| match arr {
+            OutArr::Gz => g[i] = v,
+            OutArr::Hz => h[i] = v,
+            other => unreachable!("{other:?} in scalar_tangent"),
+        });
         true
     }
 }

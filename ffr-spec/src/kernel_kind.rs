@@ -33,11 +33,20 @@ pub enum KernelKind {
     /// a modal body evaluates it at `q = Φ η`, where the inertial terms of
     /// `residual_elastic` are zero).
     ForceElastic,
+    /// The element scalars `z = S q` of the stiffening energy (`z_j`, linear
+    /// forms in the element coordinates: the slopes' coefficients), and
+    /// their count (stiffening models only).
+    ElasticScalars,
+    /// `∂U_nl/∂z`, the stiffening energy's gradient in the element scalars
+    /// (stiffening models only): a modal body evaluates it at `z = S Φ_e η`.
+    ScalarForce,
+    /// `∂U_nl/∂z` and the Hessian `∂²U_nl/∂z²` (stiffening models only).
+    ScalarTangent,
 }
 
 impl KernelKind {
     /// Every kernel, in the order generated files define them.
-    pub const ALL: [KernelKind; 11] = [
+    pub const ALL: [KernelKind; 14] = [
         KernelKind::Coefficients,
         KernelKind::SectionCoefficients,
         KernelKind::Mass,
@@ -49,6 +58,9 @@ impl KernelKind {
         KernelKind::ElementInvariants,
         KernelKind::PointShape,
         KernelKind::ForceElastic,
+        KernelKind::ElasticScalars,
+        KernelKind::ScalarForce,
+        KernelKind::ScalarTangent,
     ];
 
     /// The kernels run per element and call (all but the coefficients).
@@ -79,6 +91,9 @@ impl KernelKind {
             KernelKind::ElementInvariants => "element_invariants",
             KernelKind::PointShape => "point_shape",
             KernelKind::ForceElastic => "force_elastic",
+            KernelKind::ElasticScalars => "elastic_scalars",
+            KernelKind::ScalarForce => "scalar_force",
+            KernelKind::ScalarTangent => "scalar_tangent",
         }
     }
 
@@ -106,6 +121,6 @@ mod tests {
         names.sort();
         names.dedup();
         assert_eq!(names.len(), KernelKind::ALL.len());
-        assert_eq!(KernelKind::per_call().count(), 9);
+        assert_eq!(KernelKind::per_call().count(), 12);
     }
 }

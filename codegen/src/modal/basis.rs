@@ -19,6 +19,10 @@
 //! its dense symmetric eigensolver is single-threaded (so the result does not
 //! depend on a thread count), and the sizes are small (`n_f ≤ 6·257`).
 //!
+//! Coordinates that `K` and `M` do not couple (exact zeros; e.g. a straight
+//! beam's axial and bending groups) are solved group by group, so that every
+//! mode is exactly zero outside its group (`grouped_eigenpairs`).
+//!
 //! # Deterministic order and sign
 //! Modes are sorted by ascending `λ` (ties by index). Eigenvalues that agree
 //! to a relative `1e-9` (e.g. bending in y and z of a beam with `I_y = I_z`)
@@ -398,6 +402,104 @@ fn check_square(name: &str, a: &DMatrix<f64>, n: usize) -> Result<(), ModalError
     Ok(())
 }
 
+/// The coordinates split into groups that `K` and `M` do not couple: the
+/// connected components of the graph with an edge `i — j` wherever
+/// `K_ij` or `M_ij` is not exactly zero (a straight beam's axial, torsional
+/// and two bending groups; one group for a body whose coordinates all
+/// couple). Each group's indices ascending; groups ordered by their first
+/// index.
+fn coupled_groups(k: &DMatrix<f64>, m: &DMatrix<f64>) -> Vec<Vec<usize>> {
+    let n = k.nrows();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for j in 0..n {
+        for i in 0..n {
+            if i != j && (k[(i, j)] != 0.0 || m[(i, j)] != 0.0) {
+                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+                if a != b {
+                    // The smaller index is the root: groups are named by
+                    // their first coordinate.
+                    parent[a.max(b)] = a.min(b);
+                }
+            }
+        }
+    }
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut of_root: Vec<Option<usize>> = vec![None; n];
+    for i in 0..n {
+        let r = root(&mut parent, i);
+        match of_root[r] {
+            Some(g) => groups[g].push(i),
+            None => {
+                of_root[r] = Some(groups.len());
+                groups.push(vec![i]);
+            }
+        }
+    }
+    groups
+}
+
+/// All eigenpairs of `K φ = λ M φ` (`K`, `M` symmetric positive definite),
+/// `λ` ascending, `Φ` mass normalized and canonical (module documentation),
+/// solved group by group ([`coupled_groups`]): each mode is exactly zero
+/// outside its group, which keeps the projected stiffening energy sparse
+/// (`docs/modal.md`, "Cost"). The groups' modes are merged by ascending
+/// `λ`; within a cluster of equal eigenvalues (relative `CLUSTER_TOL`)
+/// spanning several groups, by group (e.g. bending in y before bending in
+/// z). One group: [`eigenpairs`] and [`canonicalize`] of the whole.
+fn grouped_eigenpairs(
+    k: &DMatrix<f64>,
+    m: &DMatrix<f64>,
+    what: &str,
+) -> Result<(Vec<f64>, DMatrix<f64>), ModalError> {
+    let n = k.nrows();
+    let groups = coupled_groups(k, m);
+    if groups.len() <= 1 {
+        let (lambda, mut phi) = eigenpairs(k, m, what)?;
+        canonicalize(&mut phi, &lambda);
+        return Ok((lambda, phi));
+    }
+    // (λ, group, column of the group's solution, the mode in full size).
+    let mut all: Vec<(f64, usize, usize)> = Vec::with_capacity(n);
+    let mut solved: Vec<DMatrix<f64>> = Vec::with_capacity(groups.len());
+    for (g, idx) in groups.iter().enumerate() {
+        let kg = k.select_rows(idx).select_columns(idx);
+        let mg = m.select_rows(idx).select_columns(idx);
+        let (lambda, mut phi) = eigenpairs(&kg, &mg, what)?;
+        canonicalize(&mut phi, &lambda);
+        all.extend(lambda.iter().enumerate().map(|(c, &l)| (l, g, c)));
+        solved.push(phi);
+    }
+    all.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let mut start = 0;
+    while start < all.len() {
+        let mut end = start + 1;
+        while end < all.len()
+            && (all[end].0 - all[end - 1].0).abs()
+                <= CLUSTER_TOL * all[end].0.abs().max(all[end - 1].0.abs())
+        {
+            end += 1;
+        }
+        all[start..end].sort_by(|a, b| a.1.cmp(&b.1).then(a.2.cmp(&b.2)));
+        start = end;
+    }
+    let mut lambda = Vec::with_capacity(n);
+    let mut phi = DMatrix::zeros(n, n);
+    for (col, &(l, g, c)) in all.iter().enumerate() {
+        lambda.push(l);
+        for (r, &i) in groups[g].iter().enumerate() {
+            phi[(i, col)] = solved[g][(r, c)];
+        }
+    }
+    Ok((lambda, phi))
+}
+
 /// All eigenpairs of `K φ = λ M φ` (`K`, `M` symmetric positive definite):
 /// `λ` ascending and `Φ` mass normalized, not yet canonical (see the module
 /// documentation).
@@ -702,8 +804,8 @@ pub fn modal_truncation(
     let n = m.nrows();
     check_square("m_ff", m, n)?;
     check_square("K_ff", k, n)?;
-    let (lambda, mut phi) = match rigid {
-        None => eigenpairs(k, m, "K_ff")?,
+    let (lambda, phi) = match rigid {
+        None => grouped_eigenpairs(k, m, "K_ff")?,
         Some(r) => {
             if r.nrows() != n {
                 return Err(ModalError::Input(format!(
@@ -723,12 +825,16 @@ pub fn modal_truncation(
             }
             let z = complement(&(m * r));
             let zt = z.transpose();
+            // `Z` couples every coordinate: one group, canonical in the
+            // body's coordinates.
             let (lambda, phi_z) = eigenpairs(
                 &sym(&zt * k * &z),
                 &sym(&zt * m * &z),
                 "K_ff in the complement of the rigid-body motions",
             )?;
-            (lambda, z * phi_z)
+            let mut phi = z * phi_z;
+            canonicalize(&mut phi, &lambda);
+            (lambda, phi)
         }
     };
     if count == 0 || count > lambda.len() {
@@ -737,7 +843,6 @@ pub fn modal_truncation(
             lambda.len()
         )));
     }
-    canonicalize(&mut phi, &lambda);
     let mut phi = phi.columns(0, count).into_owned();
     orthonormalize(&mut phi, m);
     Ok(ModalBasis::assemble(m, k, phi, count, &[], &[]))
@@ -794,12 +899,11 @@ pub fn craig_bampton(
     let kib = k.select_rows(&interior).select_columns(&b);
     let mut phi = DMatrix::zeros(n, count + b.len());
     if ni > 0 {
-        let (lambda, phi_i) = eigenpairs(&kii, &mii, "K_II (interior, boundary fixed)")?;
+        let (_, phi_i) = grouped_eigenpairs(&kii, &mii, "K_II (interior, boundary fixed)")?;
         let mut full = DMatrix::zeros(n, ni);
         for (r, &i) in interior.iter().enumerate() {
             full.row_mut(i).copy_from(&phi_i.row(r));
         }
-        canonicalize(&mut full, &lambda);
         let mut normal = full.columns(0, count).into_owned();
         orthonormalize(&mut normal, m);
         phi.columns_mut(0, count).copy_from(&normal);
