@@ -36,6 +36,8 @@ pub struct Scene {
     pub outputs: Vec<Output>,
     /// The flexible bodies as described (in body order).
     pub flex: Vec<FlexSpec>,
+    /// The FE bodies as described (in body order).
+    pub fe: Vec<crate::runtime::spec::scene::FeSpec>,
     /// How each body runs: `compiled`, `tape`, `rigid`.
     pub kernels: Vec<(String, String)>,
     /// What the loader folded in or left out (one line each).
