@@ -229,3 +229,210 @@ fn fe_and_beam3_pendulums_swing_the_same() {
         "{measured} vs {predicted}"
     );
 }
+
+/// The error loading the pendulum scene edited by `edit` (a text
+/// replacement that must apply), as `line: message`.
+fn refusal(from: &str, to: &str) -> (usize, String) {
+    let text = pendulum_text();
+    assert!(text.contains(from), "{from}");
+    match load(&text.replacen(from, to, 1)) {
+        Ok(_) => panic!("{from} → {to}: loaded"),
+        Err(e) => {
+            let line = e.location.as_ref().map_or(0, |l| l.line);
+            (line, e.to_string())
+        }
+    }
+}
+
+/// Misuses of an FE body's keys and files: each refused with a message
+/// saying what is wrong, at the line of the key to blame (line 14 is `fe`,
+/// 15 `reference`, 16 `interface`, 17 `modes`), no panic.
+#[test]
+fn fe_scene_misuses_are_located_errors() {
+    let fe = "fe = { nodes";
+    let cases: &[(&str, &str, usize, &str)] = &[
+        ("cantilever_nodes.csv", "missing.csv", 14, "missing.csv"),
+        (
+            "cantilever_mass.mtx",
+            "cantilever_stiffness.mtx",
+            14,
+            "couples two directions",
+        ),
+        (
+            fe,
+            "shape = \"beam3\"\nfe = { nodes",
+            14,
+            "give `shape` (a beam) or `fe`, not both",
+        ),
+        (
+            fe,
+            "stiffening = true\nfe = { nodes",
+            14,
+            "geometric stiffening is not available from M and K alone",
+        ),
+        (
+            fe,
+            "params = { length = 1.0 }\nfe = { nodes",
+            14,
+            "properties are in its mass and stiffness matrices",
+        ),
+        (
+            "66, 67, 68]",
+            "66, 67, 500]",
+            16,
+            "interface node 500 out of range: the node file has 99 nodes (0 to 98)",
+        ),
+        ("66, 67, 68]", "66, 67, -1]", 16, "not a 0-based node index"),
+        ("66, 67, 68]", "66, 67, 67]", 16, "appears twice"),
+        (
+            "interface = [0, 1, 2, 33, 34, 35, 66, 67, 68]",
+            "",
+            14,
+            "a clamped FE body needs `interface",
+        ),
+        (
+            "interface = [0, 1, 2, 33, 34, 35, 66, 67, 68]",
+            "interface = [0]",
+            16,
+            "not positive definite",
+        ),
+        (
+            "reference = \"clamped\"",
+            "reference = \"pinned\"",
+            15,
+            "`reference` is \"clamped\"",
+        ),
+        ("modes = 12", "", 14, "needs `modes = K`"),
+        (
+            "modes = 12",
+            "modes = 271",
+            17,
+            "`modes` = 271 is more than the body has: 270 elastic modes",
+        ),
+        (
+            "modes = 12",
+            "modes = 0",
+            17,
+            "positive number of normal modes",
+        ),
+        (
+            "modes = 12",
+            "modes = 12\nreduction = \"craig-bampton\"",
+            18,
+            "needs `boundary_nodes",
+        ),
+        (
+            "modes = 12",
+            "modes = 12\nreduction = \"craig-bampton\"\nboundary_nodes = [1]",
+            19,
+            "boundary node 1 is an interface node",
+        ),
+        (
+            "reference = \"clamped\"",
+            "reference = \"free\"\nreduction = \"craig-bampton\"",
+            16,
+            "Craig–Bampton on a free FE body is not available",
+        ),
+        (
+            "modes = 12",
+            "modes = 12\nreduction = \"craig-bampton\"\nboundary_nodes = [99]",
+            17,
+            "boundary node 99 out of range",
+        ),
+        (
+            "stiffness.mtx\" }",
+            "stiffness.mtx\", stiffness_scale = -1.0 }",
+            14,
+            "`fe.stiffness_scale` must be a finite number > 0",
+        ),
+        (
+            "stiffness.mtx\" }",
+            "stiffness.mtx\", density = 1.0 }",
+            14,
+            "density",
+        ),
+        ("\"cantilever_nodes.csv\"", "\"\"", 14, "empty path"),
+        ("dimension = 3", "dimension = 2", 14, "use `dimension = 3`"),
+        (
+            "\"bar@node=64\"",
+            "\"bar@node=99\"",
+            32,
+            "node 99 out of range: the FE body has nodes 0 to 98",
+        ),
+        (
+            "\"bar@node=64\"",
+            "\"bar@node=x\"",
+            32,
+            "`node=` needs a 0-based node index",
+        ),
+        (
+            "\"bar@node=64\"",
+            "\"bar@x=1.0\"",
+            32,
+            "is an FE body and has no axis",
+        ),
+        (
+            "\"bar@node=64\"",
+            "\"ground@node=1\"",
+            32,
+            "the ground needs a point",
+        ),
+        (
+            "modes = 12",
+            "modes = 12\n[[bodies.bar.masses]]\nx = 0.5\nmass = 1.0",
+            18,
+            "attached masses",
+        ),
+    ];
+    let mut wrong = Vec::new();
+    for (from, to, line, message) in cases {
+        let (at, e) = refusal(from, to);
+        if !(e.contains(message) && at == *line && e.contains("pendulum.toml:")) {
+            wrong.push(format!(
+                "{from} → {to}: expected line {line}, `{message}`; got {e}"
+            ));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+/// A node marker is the node: at rest its position is the node's
+/// coordinates in the body frame (here the global frame), with the modes'
+/// displacement rows of Φ moving it; the free reference and Craig–Bampton
+/// (clamped at x = 0, the tip's node 64 as boundary) load and run, and
+/// conserve energy like the clamped modes (ρ∞ = 1, 0.2 s).
+#[test]
+fn node_markers_free_reference_and_craig_bampton_run() {
+    let text = pendulum_text().replace("t_end = 1.0", "t_end = 0.2");
+    let corner = text.replacen("bar@node=64", "bar@node=98", 2);
+    let r = run(&corner);
+    assert_eq!(column(&r, "tip_x")[0], 1.0);
+    assert_eq!(column(&r, "tip_y")[0], 0.05);
+    for (edit, what) in [
+        (
+            text.replace(
+                "modes = 12",
+                "modes = 12\nreduction = \"craig-bampton\"\nboundary_nodes = [64]",
+            ),
+            "Craig–Bampton",
+        ),
+        (
+            text.replace(
+                "reference = \"clamped\"",
+                "reference = \"free\"\nstatic_modes = false",
+            ),
+            "free",
+        ),
+    ] {
+        let s = load(&edit).unwrap();
+        println!("{what}: {:?}", s.kernels);
+        let r = run(&edit);
+        let d = energy_drift(&r);
+        println!("{what}: energy drift {d:.3e}");
+        assert!(d < 1e-5, "{what}: {d:e}");
+        assert!(
+            column(&r, "tip_y").last().unwrap() < &-0.1,
+            "{what}: it falls"
+        );
+    }
+}
