@@ -35,6 +35,8 @@ pub use error::{Error, Result, SceneError};
 #[cfg(feature = "scene-files")]
 pub use ffr_codegen as codegen;
 #[cfg(feature = "scene-files")]
+pub mod fe;
+#[cfg(feature = "scene-files")]
 pub mod invariants;
 #[cfg(feature = "scene-files")]
 pub mod kernels;

@@ -260,27 +260,9 @@ fn fe_body(
     f: &crate::runtime::spec::scene::FeSpec,
     parts: &mut Parts,
 ) -> Result<Box<dyn Body>, SceneError> {
-    use crate::codegen::fe::{FeBody, FeModel, FeReference};
-    use std::path::Path;
+    use crate::codegen::fe::{FeBody, FeReference};
     let name = &b.name;
-    let mut model = FeModel::load(
-        Path::new(&f.nodes),
-        Path::new(&f.mass),
-        Path::new(&f.stiffness),
-    )
-    .map_err(|e| err(&f.fe_at, format!("FE body `{name}`: {e}")))?;
-    if f.stiffness_scale != 1.0 {
-        model.stiffness *= f.stiffness_scale;
-        if model.stiffness.iter().any(|v| !v.is_finite()) {
-            return Err(err(
-                &f.fe_at,
-                format!(
-                    "FE body `{name}`: `stiffness_scale` = {:e} makes a stiffness entry overflow f64",
-                    f.stiffness_scale
-                ),
-            ));
-        }
-    }
+    let model = crate::fe::model(f).map_err(|e| err(&f.fe_at, format!("FE body `{name}`: {e}")))?;
     let n = model.len();
     if let Some(bad) = f.interface.iter().find(|&&i| i >= n) {
         return Err(err(
@@ -301,11 +283,7 @@ fn fe_body(
             ),
         ));
     }
-    let reference = if f.free {
-        FeReference::Free
-    } else {
-        FeReference::Clamped
-    };
+    let reference = crate::fe::reference(f);
     let body = FeBody::new(model, reference, &f.interface)
         .map_err(|e| err(&f.interface_at, format!("FE body `{name}`: {e}")))?;
     let available = if settings.boundary.is_empty() {
@@ -337,15 +315,7 @@ fn fe_body(
     let reduced = body
         .modal_model(settings)
         .map_err(|e| err(modes_at, format!("FE body `{name}`: {e}")))?;
-    let description = format!(
-        "FE body ({n} nodes, {} elastic coordinates, {reference} reference{})",
-        body.nf(),
-        if body.interface.is_empty() {
-            String::new()
-        } else {
-            format!(", interface nodes {:?}", body.interface)
-        }
-    );
+    let description = crate::fe::describe(&body);
     let data = crate::modal::modal_data(&reduced, description.clone());
     let k = reduced.len();
     let nodes = body.model.nodes.iter().map(|p| [p.x, p.y, p.z]).collect();
