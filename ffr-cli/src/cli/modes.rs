@@ -266,25 +266,49 @@ fn check_export(e: &ExportBody) -> ffr::Result<()> {
 
 /// `ffr export`: write the body reduced as [`ReducibleBody::reduce`] says in
 /// `format` (`mbdyn-fem` or `sid`) to `out`, atomically.
+#[allow(clippy::too_many_arguments)]
 pub fn export(
     format: ExportFormat,
     body: &BodyArgs,
     params: &ParamArgs,
+    from_scene: &SceneBodyArgs,
     count: Option<usize>,
     boundary: &[usize],
     out: &Path,
 ) -> Result<(), Box<dyn Error>> {
     output::check_outputs(&[("--out", out)])?;
-    let b = reducible(body, params)?;
-    let basis = b.reduce(count, boundary, "--modes")?;
-    let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
+    let (description, basis, e) = match (&from_scene.scene, &from_scene.body_name) {
+        (Some(path), Some(name)) => {
+            let scene = ffr::scene::load(path)?;
+            match fe_from_scene(&scene, name)? {
+                Some(fe) => {
+                    let basis = fe_basis(&fe, count, boundary, "--modes")?;
+                    let e = ExportBody::from_fe(&fe, &basis)?;
+                    (ffr::fe::describe(&fe), basis, e)
+                }
+                None => {
+                    let (id, f) = scene.flex_body(name)?;
+                    let b = ReducibleBody::of_scene_body(f, scene.system.body(id))?;
+                    let basis = b.reduce(count, boundary, "--modes")?;
+                    let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
+                    (b.description(), basis, e)
+                }
+            }
+        }
+        _ => {
+            let b = reducible(body, params)?;
+            let basis = b.reduce(count, boundary, "--modes")?;
+            let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
+            (b.description(), basis, e)
+        }
+    };
     check_export(&e)?;
     let (text, name) = match format {
         ExportFormat::MbdynFem => (mbdyn_fem(&e), "mbdyn-fem"),
         ExportFormat::Sid => (sid(&e), "sid"),
     };
     output::write_atomic(out, text.as_bytes())?;
-    crate::outln!("{}", b.description())?;
+    crate::outln!("{description}")?;
     crate::outln!(
         "wrote {} ({name}, {} modes, {})",
         out.display(),
