@@ -340,6 +340,12 @@ fn fe_scene_misuses_are_located_errors() {
             "boundary node 99 out of range",
         ),
         (
+            "modes = 12",
+            "modes = 12\nreduction = \"craig-bampton\"\nboundary_nodes = [-1]",
+            19,
+            "boundary node -1 is not a 0-based node index",
+        ),
+        (
             "stiffness.mtx\" }",
             "stiffness.mtx\", stiffness_scale = -1.0 }",
             14,

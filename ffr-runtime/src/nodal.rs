@@ -8,7 +8,7 @@
 //!
 //! Scenes run FE bodies reduced ([`crate::ModalBody`] with this body as its
 //! full body: markers at nodes are its node shapes times `Φ`). The full
-//! body's equations are those of its invariants ([`InertiaTerms`], dense),
+//! body's equations are those of its invariants (the modal bodies' `InertiaTerms`, dense),
 //! built on first use: a scene that only places markers never builds them.
 
 use crate::body::{
@@ -176,5 +176,68 @@ impl Body for NodalBody {
             }
         }
         Ok(PointShape { u0: *x, entries })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DMatrix;
+
+    /// Two point masses on x, node 0 clamped: the elastic coordinates are
+    /// node 1's `ux, uy, uz` (FE degrees of freedom 3, 4, 5).
+    fn body() -> NodalBody {
+        let mut inv = Invariants::zeros(3, 3);
+        inv.mass = 3.0;
+        inv.m_ff = DMatrix::identity(3, 3) * 2.0;
+        inv.k_ff = DMatrix::identity(3, 3) * 5.0;
+        NodalBody::new(
+            inv,
+            vec![[0.0; 3], [1.0, 0.0, 0.0]],
+            &[3, 4, 5],
+            vec!["ux_1".into(), "uy_1".into(), "uz_1".into()],
+            "two masses".into(),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn nodes_are_points_with_their_coordinates() {
+        let b = body();
+        let tip = b.node_shape(1).unwrap();
+        assert_eq!(tip.u0, [1.0, 0.0, 0.0]);
+        assert_eq!(
+            tip.entries,
+            vec![
+                (0, [1.0, 0.0, 0.0], [0.0; 3]),
+                (1, [0.0, 1.0, 0.0], [0.0; 3]),
+                (2, [0.0, 0.0, 1.0], [0.0; 3]),
+            ]
+        );
+        // The clamped node moves with the frame only.
+        assert!(b.node_shape(0).unwrap().entries.is_empty());
+        let e = b.node_shape(2).unwrap_err().to_string();
+        assert!(
+            e.contains("node 2 out of range: the FE body has nodes 0 to 1"),
+            "{e}"
+        );
+        assert!(b.point_shape(0.5).is_err());
+        let mut w = b.work();
+        assert_eq!(b.elastic_energy(&[1.0, 2.0, 0.0], &mut w), 0.5 * 5.0 * 5.0);
+    }
+
+    #[test]
+    fn inconsistent_parts_are_refused() {
+        let inv = Invariants::zeros(3, 3);
+        let nodes = vec![[0.0; 3], [1.0, 0.0, 0.0]];
+        let labels = || vec!["a".to_string(), "b".into(), "c".into()];
+        for (dofs, nodes) in [
+            (vec![3, 4], nodes.clone()),    // too few coordinates
+            (vec![4, 3, 5], nodes.clone()), // not ascending
+            (vec![3, 4, 6], nodes.clone()), // beyond the nodes
+            (vec![3, 4, 5], vec![[0.0; 3], [f64::NAN, 0.0, 0.0]]),
+        ] {
+            assert!(NodalBody::new(inv.clone(), nodes, &dofs, labels(), String::new()).is_err());
+        }
     }
 }

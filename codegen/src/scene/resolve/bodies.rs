@@ -346,6 +346,18 @@ fn fe_body(
             format!("FE body `{name}` needs `modes = K`: an FE body runs reduced to its K lowest normal modes (plus static modes)"),
         ));
     };
+    if let Some(b) = &rb.boundary_nodes {
+        if let Some(i) = b
+            .get_ref()
+            .iter()
+            .find(|i| !(0..MAX_FE_NODE_INDEX).contains(*i))
+        {
+            return Err(c.err(
+                b.span(),
+                format!("FE body `{name}`: boundary node {i} is not a 0-based node index"),
+            ));
+        }
+    }
     // The beams' checks of `modes`, `reduction`, `modal_damping`; the
     // boundary is FE nodes, checked here and against the node file when
     // the scene is built.
