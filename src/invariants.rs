@@ -106,8 +106,21 @@ pub fn of_beam(beam: &crate::kernels::BeamSpec) -> crate::Result<BodyInvariants>
 }
 
 /// The invariants of the flexible body `name` of a built scene, as it runs
-/// there (its shape, mesh, sections and parameters), checked.
+/// there (its shape, mesh, sections and parameters), checked; of an FE body,
+/// the full body's on its nodal coordinates (the scene runs it reduced).
 pub fn of_scene_body(scene: &crate::scene::Scene, name: &str) -> crate::Result<BodyInvariants> {
+    if let Some(f) = scene.fe.iter().find(|f| f.name == name) {
+        // The full FE body's invariants on its nodal coordinates (the scene
+        // runs it reduced).
+        let body = crate::fe::body(f).map_err(|e| format!("FE body `{name}`: {e}"))?;
+        let invariants = crate::modal::to_runtime(&body.invariants);
+        check_invariants(&invariants, &body.dof_names, Formalism::Consistent)?;
+        return Ok(BodyInvariants {
+            description: crate::fe::describe(&body),
+            invariants,
+            dofs: body.dof_names,
+        });
+    }
     let (id, f) = scene.flex_body(name)?;
     let b = scene.system.body(id);
     let invariants = b.invariants();

@@ -16,8 +16,9 @@
 //!   run): all a compiled scene (`ffr_codegen::Builder::scene`) needs;
 //! - `scene-files` (implies `scene`): `scene::load` (TOML scene files),
 //!   `kernels::BeamSpec` (a beam described at run time, on tapes of the
-//!   generator's programs), `modal` (reduced bodies) and `codegen` (plain
-//!   names: the items exist only with the feature);
+//!   generator's programs), `modal` (reduced bodies), `fe` (a scene's bodies
+//!   from finite-element matrices; `ffr-codegen`'s feature `fe`) and
+//!   `codegen` (plain names: the items exist only with the feature);
 //! - `builtin-kernels` (implies `scene-files`): the built-in shapes'
 //!   compiled kernels, used by `BeamSpec` and scene files instead of tapes.
 //!
@@ -34,6 +35,8 @@ pub use error::{Error, Result, SceneError};
 
 #[cfg(feature = "scene-files")]
 pub use ffr_codegen as codegen;
+#[cfg(feature = "scene-files")]
+pub mod fe;
 #[cfg(feature = "scene-files")]
 pub mod invariants;
 #[cfg(feature = "scene-files")]

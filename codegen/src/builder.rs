@@ -599,6 +599,18 @@ pub fn generate_scene(
     crate::scene::check(&raw, &text, origin)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let spec = crate::scene::resolve(&raw, &text, origin, &dir)?;
+    if let Some(f) = spec.bodies.iter().find_map(|b| match &b.kind {
+        ffr_spec::scene::BodyKind::Fe(f) => Some(f),
+        _ => None,
+    }) {
+        return Err(Error::Scene {
+            location: f.fe_at.clone(),
+            message: format!(
+                "FE body `{}`: a compiled scene does not take FE bodies yet (their matrices are read when the scene is loaded); run the scene file with `ffr run` or `ffr::scene::load`",
+                f.name
+            ),
+        });
+    }
     let bodies = crate::scene::flex_models(&raw, &text, origin)?
         .into_iter()
         .map(|m| {

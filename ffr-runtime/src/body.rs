@@ -398,6 +398,15 @@ pub trait Body: Send + Sync {
     /// naming the valid range.
     fn point_shape(&self, x: f64) -> Result<PointShape>;
 
+    /// Node `node` of an FE body (a marker `NAME@node=N`), or an error: the
+    /// default, for bodies without nodes to name.
+    fn node_shape(&self, node: usize) -> Result<PointShape> {
+        let _ = node;
+        Err(crate::error::Error::InvalidInput(
+            "`@node=N` names a node of an FE body; this body has none".into(),
+        ))
+    }
+
     /// The body's own damping matrix `D` of its elastic coordinates (a
     /// modal body's per-mode ratios), added to any Rayleigh damping the
     /// system sets: the force `D q̇_f`. `None` (the default): none.
@@ -524,6 +533,9 @@ impl<B: Body + ?Sized> Body for Box<B> {
     }
     fn point_shape(&self, x: f64) -> Result<PointShape> {
         (**self).point_shape(x)
+    }
+    fn node_shape(&self, node: usize) -> Result<PointShape> {
+        (**self).node_shape(node)
     }
     fn damping(&self) -> Option<BandBuf> {
         (**self).damping()

@@ -31,6 +31,7 @@ pub mod linear;
 pub mod marker;
 pub mod modal;
 pub mod monitor;
+pub mod nodal;
 pub mod rigid;
 pub mod rotation;
 pub mod system;
@@ -56,6 +57,7 @@ pub use marker::{BodyId, Marker};
 pub use modal::{ModalBody, ModalConsts, ModalData};
 pub use monitor::Monitor;
 pub use nalgebra;
+pub use nodal::NodalBody;
 pub use rigid::RigidBody;
 pub use system::{BodyEntry, Pose, Rayleigh, System};
 

@@ -353,6 +353,30 @@ impl ModalBody {
         &*self.inner
     }
 
+    /// A point of the full body (its point shape) in the modes: `s Φ`, `ψ Φ`.
+    fn project_point(&self, full: PointShape) -> PointShape {
+        let phi = &self.data.phi;
+        let mut entries = Vec::new();
+        for m in 0..phi.ncols() {
+            let mut s = [0.0; 3];
+            let mut psi = [0.0; 3];
+            for (dof, sj, pj) in &full.entries {
+                let f = phi[(*dof, m)];
+                for a in 0..3 {
+                    s[a] += sj[a] * f;
+                    psi[a] += pj[a] * f;
+                }
+            }
+            if s.iter().chain(&psi).any(|v| *v != 0.0) {
+                entries.push((m, s, psi));
+            }
+        }
+        PointShape {
+            u0: full.u0,
+            entries,
+        }
+    }
+
     /// `q_f = Φ η` into `qf`.
     fn expand(&self, eta: &[f64], qf: &mut [f64]) {
         // Column by column (`Φ` is column-major: column m contiguous).
@@ -689,27 +713,11 @@ impl Body for ModalBody {
     }
 
     fn point_shape(&self, x: f64) -> Result<PointShape> {
-        let full = self.inner.point_shape(x)?;
-        let phi = &self.data.phi;
-        let mut entries = Vec::new();
-        for m in 0..phi.ncols() {
-            let mut s = [0.0; 3];
-            let mut psi = [0.0; 3];
-            for (dof, sj, pj) in &full.entries {
-                let f = phi[(*dof, m)];
-                for a in 0..3 {
-                    s[a] += sj[a] * f;
-                    psi[a] += pj[a] * f;
-                }
-            }
-            if s.iter().chain(&psi).any(|v| *v != 0.0) {
-                entries.push((m, s, psi));
-            }
-        }
-        Ok(PointShape {
-            u0: full.u0,
-            entries,
-        })
+        Ok(self.project_point(self.inner.point_shape(x)?))
+    }
+
+    fn node_shape(&self, node: usize) -> Result<PointShape> {
+        Ok(self.project_point(self.inner.node_shape(node)?))
     }
 
     fn damping(&self) -> Option<BandBuf> {

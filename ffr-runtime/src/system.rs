@@ -361,6 +361,16 @@ impl<B: Body> System<B> {
         Ok(Marker::point(b, shape))
     }
 
+    /// A marker at node `node` of FE body `b` (its node shape).
+    pub fn node(&self, b: BodyId, node: usize) -> Result<Marker> {
+        let e = self.entry(b)?;
+        let shape = e
+            .body
+            .node_shape(node)
+            .map_err(|err| Error::InvalidInput(format!("body `{}`: {err}", e.name)))?;
+        Ok(Marker::point(b, shape))
+    }
+
     fn check_marker(&self, m: &Marker) -> Result<()> {
         let Some(b) = m.body else {
             return Ok(());

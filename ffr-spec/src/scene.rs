@@ -132,6 +132,39 @@ pub enum BodyKind {
     },
     /// A flexible body.
     Flexible(FlexSpec),
+    /// A body from finite-element matrices (`fe = { nodes, mass, stiffness }`),
+    /// always reduced to modes.
+    Fe(FeSpec),
+}
+
+/// A body from finite-element matrices: the files (resolved against the
+/// scene file's directory), the reference condition, the interface nodes
+/// and the modal reduction. The files are read when the scene is built.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FeSpec {
+    /// The body's name.
+    pub name: String,
+    /// The node file (CSV `x,y,z`).
+    pub nodes: String,
+    /// The mass matrix (Matrix Market).
+    pub mass: String,
+    /// The stiffness matrix (Matrix Market).
+    pub stiffness: String,
+    /// `fe.stiffness_scale`: the factor the stiffness matrix is multiplied
+    /// by (Young's modulus scaled, Poisson's ratio kept), 1 unless given.
+    pub stiffness_scale: f64,
+    /// Where `fe` is written.
+    pub fe_at: Location,
+    /// `true`: `reference = "free"`; `false`: `"clamped"` (the frame fixed
+    /// to the interface nodes).
+    pub free: bool,
+    /// The interface nodes (0-based rows of the node file), as written.
+    pub interface: Vec<usize>,
+    /// Where `interface` is written (the `fe` key when it is not).
+    pub interface_at: Location,
+    /// The reduction (Craig–Bampton `boundary`: FE node indices), and where
+    /// `modes` is written.
+    pub modal: (ModalSettings, Location),
 }
 
 /// A flexible body: the beam, what the scene fixes for its kernels, and its
@@ -284,6 +317,8 @@ pub enum MarkerPoint {
     Axis(usize, f64),
     /// A point fixed in a body's frame (`NAME@[x, y]`).
     Point(usize, [f64; 3]),
+    /// A node of an FE body (`NAME@node=N`, 0-based).
+    Node(usize, usize),
 }
 
 /// A prescribed motion `f(t)` (an angle or a slide) with its rate and

@@ -36,6 +36,8 @@ pub struct Scene {
     pub outputs: Vec<Output>,
     /// The flexible bodies as described (in body order).
     pub flex: Vec<FlexSpec>,
+    /// The FE bodies as described (in body order).
+    pub fe: Vec<crate::runtime::spec::scene::FeSpec>,
     /// How each body runs: `compiled`, `tape`, `rigid`.
     pub kernels: Vec<(String, String)>,
     /// What the loader folded in or left out (one line each).
@@ -49,7 +51,12 @@ impl Scene {
     pub fn flex_body(&self, name: &str) -> Result<(crate::runtime::BodyId, &FlexSpec), String> {
         let q = crate::runtime::spec::text::quoted;
         let Some(f) = self.flex.iter().find(|f| f.name == name) else {
-            let flexible: Vec<&str> = self.flex.iter().map(|f| f.name.as_str()).collect();
+            let flexible: Vec<&str> = self
+                .flex
+                .iter()
+                .map(|f| f.name.as_str())
+                .chain(self.fe.iter().map(|f| f.name.as_str()))
+                .collect();
             return Err(format!(
                 "{}: no flexible body `{}`; the scene's flexible bodies are {}",
                 self.origin,

@@ -152,6 +152,73 @@ impl ExportBody {
         })
     }
 
+    /// The export data of an FE body reduced to `basis` (a reduction of
+    /// `body`, e.g. [`crate::fe::FeBody::reduce`]): every FE node at its
+    /// coordinates, its translations the rows of `Φ` of its elastic
+    /// coordinates (zero where a clamped interface removes them), no
+    /// rotations; record 11's lumped mass of a node is its row sum of the
+    /// scalar mass matrix, `(M_s 1)_i` (the consistent mass lumped; the
+    /// total is exact, the distribution approximate), and no rotary inertia
+    /// (translational nodes). A negative row sum (some higher-order
+    /// elements have them) is refused.
+    #[cfg(feature = "fe")]
+    pub fn from_fe(body: &crate::fe::FeBody, basis: &ModalBasis) -> Result<Self, ModalError> {
+        let full = &body.invariants;
+        if basis.phi.nrows() != body.nf() {
+            return Err(ModalError::Input(format!(
+                "the FE body has {} elastic coordinates; the basis {} rows",
+                body.nf(),
+                basis.phi.nrows()
+            )));
+        }
+        let k = basis.phi.ncols();
+        let ms = &body.model.scalar_mass;
+        let mut nodes = Vec::with_capacity(body.model.len());
+        for (i, x) in body.model.nodes.iter().enumerate() {
+            let mass: f64 = ms.row(i).iter().sum();
+            if !(mass >= 0.0 && mass.is_finite()) {
+                return Err(ModalError::Input(format!(
+                    "node {i}'s lumped mass (its row sum of the mass matrix) is {mass}: the consistent mass cannot be lumped by row sums for the export's nodal masses"
+                )));
+            }
+            nodes.push(ExportNode {
+                node: i,
+                position: *x,
+                translation: Matrix3xX::zeros(k),
+                rotation: Matrix3xX::zeros(k),
+                mass,
+                inertia: Vector3::zeros(),
+            });
+        }
+        for (a, &d) in body.dofs.iter().enumerate() {
+            for j in 0..k {
+                nodes[d / 3].translation[(d % 3, j)] = basis.phi[(a, j)];
+            }
+        }
+        let title = format!(
+            "FE body, {} nodes, {} elastic coordinates, {} reference{}, from {} and {}; {} modes ({})",
+            body.model.len(),
+            body.nf(),
+            body.reference,
+            if body.interface.is_empty() {
+                String::new()
+            } else {
+                format!(", interface nodes {:?}", body.interface)
+            },
+            body.model.mass_file,
+            body.model.stiffness_file,
+            k,
+            basis.reduction_name()
+        );
+        Ok(Self {
+            title,
+            invariants: full.project(&basis.phi),
+            labels: basis.labels.clone(),
+            kinds: basis.kinds.clone(),
+            nodes,
+        })
+    }
+
     /// Number of modes `k`.
     pub fn modes(&self) -> usize {
         self.labels.len()

@@ -8,8 +8,10 @@
 //! File formats and limits: `docs/fe.md`; the formulas: `docs/theory.md`,
 //! "Bodies from finite-element matrices".
 //!
-//! Not here yet (issue 23): scene files with `fe = {…}`, running FE bodies,
-//! `ffr invariants/modes --scene` for them, export, markers `NAME@node=N`.
+//! Scene files take FE bodies (`fe = {…}`; the scene reader records the
+//! files, the `ffr` crate reads them when the scene is built), and
+//! [`crate::export::ExportBody::from_fe`] writes a reduced one for other
+//! engines.
 
 mod body;
 mod matrix;

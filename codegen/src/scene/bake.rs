@@ -209,6 +209,24 @@ impl Bake for ffr_spec::scene::FlexSpec {
     }
 }
 
+impl Bake for ffr_spec::scene::FeSpec {
+    fn bake(&self, s: &Ctx) -> String {
+        format!(
+            "{s}::scene::FeSpec {{ name: {}, nodes: {}, mass: {}, stiffness: {}, stiffness_scale: {}, fe_at: {}, free: {}, interface: {}, interface_at: {}, modal: {} }}",
+            self.name.bake(s),
+            self.nodes.bake(s),
+            self.mass.bake(s),
+            self.stiffness.bake(s),
+            self.stiffness_scale.bake(s),
+            self.fe_at.bake(s),
+            self.free.bake(s),
+            self.interface.bake(s),
+            self.interface_at.bake(s),
+            self.modal.bake(s)
+        )
+    }
+}
+
 impl Bake for BodyKind {
     fn bake(&self, s: &Ctx) -> String {
         match self {
@@ -223,6 +241,7 @@ impl Bake for BodyKind {
                 centre.bake(s)
             ),
             BodyKind::Flexible(f) => format!("{s}::scene::BodyKind::Flexible({})", f.bake(s)),
+            BodyKind::Fe(f) => format!("{s}::scene::BodyKind::Fe({})", f.bake(s)),
         }
     }
 }
@@ -269,6 +288,11 @@ impl Bake for MarkerSpec {
                 "{s}::scene::MarkerPoint::Point({}, {})",
                 b.bake(s),
                 p.bake(s)
+            ),
+            MarkerPoint::Node(b, n) => format!(
+                "{s}::scene::MarkerPoint::Node({}, {})",
+                b.bake(s),
+                n.bake(s)
             ),
         };
         format!(

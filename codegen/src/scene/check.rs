@@ -256,6 +256,8 @@ pub fn check(raw: &RawScene, text: &str, file: &str) -> Result<(), Error> {
             ("mass", sp(&rb.mass)),
             ("inertia", sp(&rb.inertia)),
             ("centre", sp(&rb.centre)),
+            ("fe", sp(&rb.fe)),
+            ("interface", sp(&rb.interface)),
         ]);
         let both = ["position", orientation, "velocity", "omega"];
         if rb.mass.is_some() {
@@ -278,6 +280,40 @@ pub fn check(raw: &RawScene, text: &str, file: &str) -> Result<(), Error> {
                         "elastic",
                         "`elastic` is the initial state of a flexible body",
                     ),
+                ],
+            )?;
+        } else if rb.fe.is_some() {
+            let takes: Vec<&str> = [
+                "fe",
+                "reference",
+                "interface",
+                "modes",
+                "reduction",
+                "boundary_nodes",
+                "static_modes",
+                "modal_damping",
+                "damping",
+                "elastic",
+            ]
+            .into_iter()
+            .chain(both)
+            .collect();
+            applies(
+                text,
+                file,
+                &present,
+                &takes,
+                &format!("FE body `{n}` (it has `fe`)"),
+                &[
+                    ("shape", "an FE body's geometry is its mesh (`fe`): give `shape` (a beam) or `fe`, not both"),
+                    ("stiffening", "geometric stiffening is not available from M and K alone: it needs the stress-dependent geometric stiffness of the elements, which the mass and stiffness matrices do not carry, so an FE body is linear elastic in its frame"),
+                    ("elements", "an FE body's mesh is its node file (`fe.nodes`)"),
+                    ("nodes", "an FE body's nodes are its node file (`fe.nodes`); `nodes` is a beam's graded mesh"),
+                    ("params", "an FE body's properties are in its mass and stiffness matrices"),
+                    ("sections", "an FE body's properties are in its mass and stiffness matrices"),
+                    ("formalism", "an FE body's mass matrix is the one the FE code exported (consistent or lumped)"),
+                    ("inertia", "an FE body's inertia follows from its mass matrix"),
+                    ("centre", "an FE body's centre of mass follows from its mass matrix"),
                 ],
             )?;
         } else if rb.shape.is_some() {

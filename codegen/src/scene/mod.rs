@@ -74,6 +74,11 @@ pub struct RawBody {
     pub static_modes: Option<Spanned<bool>>,
     /// Masses attached on the axis: `[[bodies.NAME.masses]]`.
     pub masses: Option<Vec<Spanned<RawAttachedMass>>>,
+    // From finite-element matrices.
+    /// `fe = { nodes = "….csv", mass = "….mtx", stiffness = "….mtx" }`.
+    pub fe: Option<Spanned<RawFe>>,
+    /// An FE body's interface nodes (0-based rows of its node file).
+    pub interface: Option<Spanned<Vec<i64>>>,
     // Rigid.
     pub mass: Option<Spanned<f64>>,
     pub inertia: Option<Spanned<toml::Value>>,
@@ -86,6 +91,21 @@ pub struct RawBody {
     pub omega: Option<Spanned<toml::Value>>,
     /// Initial elastic state (flexible bodies).
     pub elastic: Option<Spanned<RawElastic>>,
+}
+
+/// An FE body's files (paths relative to the scene file).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFe {
+    /// The node file (CSV, header `x,y,z`).
+    pub nodes: Spanned<String>,
+    /// The mass matrix (Matrix Market).
+    pub mass: Spanned<String>,
+    /// The stiffness matrix (Matrix Market).
+    pub stiffness: Spanned<String>,
+    /// A factor on the stiffness matrix (Young's modulus scaled, Poisson's
+    /// ratio kept; default 1).
+    pub stiffness_scale: Option<Spanned<f64>>,
 }
 
 /// A table of values by coordinate label, `{ uy_4 = 1e-3, rz_4 = 0.01 }`.
@@ -244,6 +264,7 @@ impl RawBody {
         self.shape
             .as_ref()
             .map(|x| x.span())
+            .or(self.fe.as_ref().map(|x| x.span()))
             .or(self.mass.as_ref().map(|x| x.span()))
             .or(self.elements.as_ref().map(|x| x.span()))
             .or(self.nodes.as_ref().map(|x| x.span()))

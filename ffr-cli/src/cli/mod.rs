@@ -99,6 +99,10 @@ pub enum Command {
         /// The file to write (written to a temporary file, then renamed).
         #[arg(long)]
         out: PathBuf,
+        /// Take the body from a scene file (a beam, or an FE body: then
+        /// `--boundary` names FE nodes).
+        #[command(flatten)]
+        from_scene: SceneBodyArgs,
     },
     /// Run the spin-up beam benchmark (the main job).
     SpinUp(SpinUpArgs),
@@ -283,7 +287,8 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             modes,
             boundary,
             out,
-        }) => export(format, &body, &params, modes, &boundary, &out),
+            from_scene,
+        }) => export(format, &body, &params, &from_scene, modes, &boundary, &out),
         Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
         Some(Command::Linearize(args)) => linearize(&args).map(|_| ()),
         Some(Command::Campbell(args)) => campbell(&args).map(|_| ()),

@@ -39,19 +39,30 @@ pub fn reducible(body: &BodyArgs, params: &ParamArgs) -> Result<ReducibleBody, B
 /// `modal_stiffness` (k × k) and `invariants`, the projected invariants keyed
 /// like `ffr invariants --json` (with `dofs` the mode labels).
 pub fn modes_json(body: &ReducibleBody, basis: &ModalBasis) -> Value {
+    reduction_json(&body.description(), &body.dofs, &body.invariants, basis)
+}
+
+/// [`modes_json`] of any body: its description, coordinate labels and full
+/// invariants (a beam's or an FE body's).
+fn reduction_json(
+    description: &str,
+    dofs: &[String],
+    invariants: &ffr::codegen::modal::Invariants,
+    basis: &ModalBasis,
+) -> Value {
     let rows = |m: &ffr::runtime::nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
         (0..m.nrows())
             .map(|i| (0..m.ncols()).map(|j| m[(i, j)]).collect())
             .collect()
     };
-    let projected = body.invariants.project(&basis.phi);
+    let projected = invariants.project(&basis.phi);
     json!({
-        "body": body.description(),
+        "body": description,
         "reduction": basis.reduction_name(),
         "omega": basis.frequencies,
         "hz": basis.frequencies.iter().map(|w| w / std::f64::consts::TAU).collect::<Vec<_>>(),
         "labels": basis.labels,
-        "dofs": body.dofs,
+        "dofs": dofs,
         "phi": rows(&basis.phi),
         "modal_mass": rows(&basis.modal_mass),
         "modal_stiffness": rows(&basis.modal_stiffness),
@@ -59,14 +70,86 @@ pub fn modes_json(body: &ReducibleBody, basis: &ModalBasis) -> Value {
     })
 }
 
-/// The body of `--scene FILE --body NAME` ([`ReducibleBody::of_scene_body`]).
-fn reducible_from_scene(path: &Path, name: &str) -> Result<ReducibleBody, Box<dyn Error>> {
-    let scene = ffr::scene::load(path)?;
-    let (id, f) = scene.flex_body(name)?;
-    Ok(ReducibleBody::of_scene_body(f, scene.system.body(id))?)
+/// The FE body `name` of the scene at `path`, if it is one.
+fn fe_from_scene(
+    scene: &ffr::scene::Scene,
+    name: &str,
+) -> Result<Option<ffr::codegen::fe::FeBody>, Box<dyn Error>> {
+    match scene.fe.iter().find(|f| f.name == name) {
+        None => Ok(None),
+        Some(f) => Ok(Some(
+            ffr::fe::body(f).map_err(|e| format!("FE body `{name}`: {e}"))?,
+        )),
+    }
+}
+
+/// An FE body's basis as the command line asks: modal truncation to
+/// `count` modes (all elastic modes when `None`), or with `boundary` FE
+/// nodes Craig–Bampton with `count` fixed-interface modes (all when `None`);
+/// every number checked finite as for beams.
+fn fe_basis(
+    body: &ffr::codegen::fe::FeBody,
+    count: Option<usize>,
+    boundary: &[usize],
+    flag: &str,
+) -> Result<ModalBasis, Box<dyn Error>> {
+    use ffr::codegen::modal::Reduction;
+    let available = if boundary.is_empty() {
+        body.available_modes()
+    } else {
+        let mut nodes = boundary.to_vec();
+        nodes.sort_unstable();
+        nodes.dedup();
+        let fixed = body
+            .dofs
+            .iter()
+            .filter(|d| nodes.binary_search(&(*d / 3)).is_ok())
+            .count();
+        body.nf() - fixed
+    };
+    let k = count.unwrap_or(available);
+    if (boundary.is_empty() && k == 0) || k > available {
+        return Err(format!(
+            "{flag} must be between {} and {available} for this FE body ({} elastic coordinates{}), found {k}",
+            if boundary.is_empty() { 1 } else { 0 },
+            body.nf(),
+            if boundary.is_empty() {
+                if available < body.nf() { " less 6 rigid motions" } else { "" }
+            } else {
+                " less those of the boundary nodes"
+            }
+        )
+        .into());
+    }
+    let reduction = if boundary.is_empty() {
+        Reduction::Modal { modes: k }
+    } else {
+        Reduction::CraigBampton {
+            boundary_nodes: boundary.to_vec(),
+            modes: k,
+        }
+    };
+    let basis = body.reduce(&reduction)?;
+    for (j, w) in basis.frequencies.iter().enumerate() {
+        finite(|| format!("omega[{j}]"), *w)?;
+    }
+    for (name, m) in [
+        ("phi", &basis.phi),
+        ("modal_mass", &basis.modal_mass),
+        ("modal_stiffness", &basis.modal_stiffness),
+    ] {
+        for i in 0..m.nrows() {
+            for j in 0..m.ncols() {
+                finite(|| format!("{name}[{i}][{j}]"), m[(i, j)])?;
+            }
+        }
+    }
+    Ok(basis)
 }
 
 /// `ffr modes`: print the frequencies (or, with `json`, the whole reduction).
+/// A scene's FE body (`--scene … --body …`) is reduced on its FE nodes
+/// (`--boundary`: FE node indices).
 pub fn modes(
     body: &BodyArgs,
     params: &ParamArgs,
@@ -75,21 +158,51 @@ pub fn modes(
     boundary: &[usize],
     json: bool,
 ) -> Result<(), Box<dyn Error>> {
-    let b = match (&from_scene.scene, &from_scene.body_name) {
-        (Some(path), Some(name)) => reducible_from_scene(path, name)?,
-        _ => reducible(body, params)?,
-    };
-    let basis = b.reduce(count, boundary, "--count")?;
+    let (description, dofs, invariants, basis, free) =
+        match (&from_scene.scene, &from_scene.body_name) {
+            (Some(path), Some(name)) => {
+                let scene = ffr::scene::load(path)?;
+                match fe_from_scene(&scene, name)? {
+                    Some(fe) => {
+                        let basis = fe_basis(&fe, count, boundary, "--count")?;
+                        let free = fe.reference == ffr::codegen::fe::FeReference::Free;
+                        (
+                            ffr::fe::describe(&fe),
+                            fe.dof_names,
+                            fe.invariants,
+                            basis,
+                            free,
+                        )
+                    }
+                    None => {
+                        let (id, f) = scene.flex_body(name)?;
+                        let b = ReducibleBody::of_scene_body(f, scene.system.body(id))?;
+                        let basis = b.reduce(count, boundary, "--count")?;
+                        let free = b.spec.reference == Reference::Free;
+                        (b.description(), b.dofs, b.invariants, basis, free)
+                    }
+                }
+            }
+            _ => {
+                let b = reducible(body, params)?;
+                let basis = b.reduce(count, boundary, "--count")?;
+                let free = b.spec.reference == Reference::Free;
+                (b.description(), b.dofs, b.invariants, basis, free)
+            }
+        };
     if json {
-        crate::outln!("{}", serde_json::to_string(&modes_json(&b, &basis))?)?;
+        crate::outln!(
+            "{}",
+            serde_json::to_string(&reduction_json(&description, &dofs, &invariants, &basis))?
+        )?;
         return Ok(());
     }
-    crate::outln!("{}", b.description())?;
+    crate::outln!("{description}")?;
     if boundary.is_empty() {
         crate::outln!(
             "modal truncation: the {} lowest modes of K_ff φ = ω² m_ff φ, mass-normalized{}",
             basis.len(),
-            if b.spec.reference == Reference::Free {
+            if free {
                 " (rigid-body motions removed)"
             } else {
                 ""
@@ -153,25 +266,49 @@ fn check_export(e: &ExportBody) -> ffr::Result<()> {
 
 /// `ffr export`: write the body reduced as [`ReducibleBody::reduce`] says in
 /// `format` (`mbdyn-fem` or `sid`) to `out`, atomically.
+#[allow(clippy::too_many_arguments)]
 pub fn export(
     format: ExportFormat,
     body: &BodyArgs,
     params: &ParamArgs,
+    from_scene: &SceneBodyArgs,
     count: Option<usize>,
     boundary: &[usize],
     out: &Path,
 ) -> Result<(), Box<dyn Error>> {
     output::check_outputs(&[("--out", out)])?;
-    let b = reducible(body, params)?;
-    let basis = b.reduce(count, boundary, "--modes")?;
-    let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
+    let (description, basis, e) = match (&from_scene.scene, &from_scene.body_name) {
+        (Some(path), Some(name)) => {
+            let scene = ffr::scene::load(path)?;
+            match fe_from_scene(&scene, name)? {
+                Some(fe) => {
+                    let basis = fe_basis(&fe, count, boundary, "--modes")?;
+                    let e = ExportBody::from_fe(&fe, &basis)?;
+                    (ffr::fe::describe(&fe), basis, e)
+                }
+                None => {
+                    let (id, f) = scene.flex_body(name)?;
+                    let b = ReducibleBody::of_scene_body(f, scene.system.body(id))?;
+                    let basis = b.reduce(count, boundary, "--modes")?;
+                    let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
+                    (b.description(), basis, e)
+                }
+            }
+        }
+        _ => {
+            let b = reducible(body, params)?;
+            let basis = b.reduce(count, boundary, "--modes")?;
+            let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
+            (b.description(), basis, e)
+        }
+    };
     check_export(&e)?;
     let (text, name) = match format {
         ExportFormat::MbdynFem => (mbdyn_fem(&e), "mbdyn-fem"),
         ExportFormat::Sid => (sid(&e), "sid"),
     };
     output::write_atomic(out, text.as_bytes())?;
-    crate::outln!("{}", b.description())?;
+    crate::outln!("{description}")?;
     crate::outln!(
         "wrote {} ({name}, {} modes, {})",
         out.display(),

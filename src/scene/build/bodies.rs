@@ -48,6 +48,7 @@ pub(super) fn add_bodies(
                 Box::new(rbody)
             }
             BodyKind::Flexible(f) => flexible(b, f, dim, provider, parts)?,
+            BodyKind::Fe(f) => fe_body(b, f, parts)?,
         };
         let sys = &mut parts.sys;
         let id = sys
@@ -244,5 +245,110 @@ fn reduce(
 ) -> crate::Result<Box<dyn Body>> {
     Err(crate::Error::Invalid(
         "a modal body is reduced at run time: it needs the `scene-files` feature of ffr".into(),
+    ))
+}
+
+/// An FE body (`fe = {…}`): its files read and checked, its invariants with
+/// the reference condition, reduced as its settings say, run as a modal
+/// body whose full body ([`crate::runtime::NodalBody`]) places markers at
+/// nodes. File errors name the file (and `file:line:col` inside it),
+/// prefixed with where `fe` is written; the interface and the mode count are
+/// checked against the files here, at `interface` and `modes`.
+#[cfg(feature = "scene-files")]
+fn fe_body(
+    b: &BodySpec,
+    f: &crate::runtime::spec::scene::FeSpec,
+    parts: &mut Parts,
+) -> Result<Box<dyn Body>, SceneError> {
+    use crate::codegen::fe::{FeBody, FeReference};
+    let name = &b.name;
+    let model = crate::fe::model(f).map_err(|e| err(&f.fe_at, format!("FE body `{name}`: {e}")))?;
+    let n = model.len();
+    if let Some(bad) = f.interface.iter().find(|&&i| i >= n) {
+        return Err(err(
+            &f.interface_at,
+            format!(
+                "FE body `{name}`: interface node {bad} out of range: the node file has {n} nodes (0 to {})",
+                n - 1
+            ),
+        ));
+    }
+    let (settings, modes_at) = &f.modal;
+    if let Some(bad) = settings.boundary.iter().find(|&&i| i >= n) {
+        return Err(err(
+            modes_at,
+            format!(
+                "FE body `{name}`: boundary node {bad} out of range: the node file has {n} nodes (0 to {})",
+                n - 1
+            ),
+        ));
+    }
+    let reference = crate::fe::reference(f);
+    let body = FeBody::new(model, reference, &f.interface)
+        .map_err(|e| err(&f.interface_at, format!("FE body `{name}`: {e}")))?;
+    let available = if settings.boundary.is_empty() {
+        body.available_modes()
+    } else {
+        let fixed = 3 * settings.boundary.len();
+        body.nf().saturating_sub(fixed)
+    };
+    if settings.modes > available {
+        return Err(err(
+            modes_at,
+            format!(
+                "FE body `{name}`: `modes` = {} is more than the body has: {available} {} ({} elastic coordinates{})",
+                settings.modes,
+                if settings.boundary.is_empty() {
+                    "elastic modes"
+                } else {
+                    "fixed-interface modes"
+                },
+                body.nf(),
+                match (reference, settings.boundary.is_empty()) {
+                    (FeReference::Free, true) => " less 6 rigid motions".to_string(),
+                    (_, false) => format!(" less {} on the boundary nodes", 3 * settings.boundary.len()),
+                    _ => String::new(),
+                }
+            ),
+        ));
+    }
+    let reduced = body
+        .modal_model(settings)
+        .map_err(|e| err(modes_at, format!("FE body `{name}`: {e}")))?;
+    let description = crate::fe::describe(&body);
+    let data = crate::modal::modal_data(&reduced, description.clone());
+    let k = reduced.len();
+    let nodes = body.model.nodes.iter().map(|p| [p.x, p.y, p.z]).collect();
+    let full = crate::runtime::NodalBody::new(
+        crate::modal::to_runtime(&body.invariants),
+        nodes,
+        &body.dofs,
+        body.dof_names.clone(),
+        description,
+    )
+    .and_then(|full| crate::runtime::ModalBody::new(Box::new(full), data))
+    .map_err(|e| err(modes_at, format!("FE body `{name}`: {e}")))?;
+    parts.kernels.push((
+        name.clone(),
+        format!("modal, {k} modes, reduced at load (FE body, {n} nodes)"),
+    ));
+    parts.fe.push(f.clone());
+    Ok(Box::new(full))
+}
+
+/// Without the `scene-files` feature there are no FE bodies (their files are
+/// read when the scene is built).
+#[cfg(not(feature = "scene-files"))]
+fn fe_body(
+    b: &BodySpec,
+    f: &crate::runtime::spec::scene::FeSpec,
+    _: &mut Parts,
+) -> Result<Box<dyn Body>, SceneError> {
+    Err(err(
+        &f.fe_at,
+        format!(
+            "FE body `{}`: FE bodies are read at run time: they need the `scene-files` feature of ffr",
+            b.name
+        ),
     ))
 }

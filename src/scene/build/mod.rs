@@ -46,6 +46,9 @@ pub(crate) fn marker(sys: &System<Box<dyn Body>>, m: &MarkerSpec) -> Result<Mark
         MarkerPoint::Axis(b, x) => sys
             .point(BodyId(b), x)
             .map_err(|e| err(&m.at, format!("`{}`: {e}", q(&m.text))))?,
+        MarkerPoint::Node(b, n) => sys
+            .node(BodyId(b), n)
+            .map_err(|e| err(&m.at, format!("`{}`: {e}", q(&m.text))))?,
     })
 }
 
@@ -110,6 +113,7 @@ struct Parts {
     notes: Vec<String>,
     kernels: Vec<(String, String)>,
     flex: Vec<crate::runtime::spec::scene::FlexSpec>,
+    fe: Vec<crate::runtime::spec::scene::FeSpec>,
 }
 
 /// Build the scene `spec` describes, with the flexible bodies' kernels from
@@ -120,6 +124,7 @@ pub fn build(spec: &SceneSpec, provider: &dyn KernelProvider) -> Result<Scene, S
         notes: Vec::new(),
         kernels: Vec::new(),
         flex: Vec::new(),
+        fe: Vec::new(),
     };
     bodies::add_bodies(spec, provider, &mut parts)?;
     if let Some((g, at)) = &spec.gravity {
@@ -157,6 +162,7 @@ pub fn build(spec: &SceneSpec, provider: &dyn KernelProvider) -> Result<Scene, S
         integrator: integrator(&spec.integrator),
         outputs,
         flex: parts.flex,
+        fe: parts.fe,
         kernels: parts.kernels,
         notes: parts.notes,
     })

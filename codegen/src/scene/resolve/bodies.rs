@@ -4,8 +4,10 @@
 use super::{fin_f64, pos_f64, sections, vec_n, Ctx};
 use crate::error::Error;
 use crate::scene::quoted as q;
-use crate::scene::{FlexBodyModel, RawBody, RawLabelled, RawScene};
-use ffr_spec::scene::{BodyKind, BodySpec, ElasticSpec, FlexSpec, ModalSettings, Orientation};
+use crate::scene::{FlexBodyModel, RawBody, RawFe, RawLabelled, RawScene};
+use ffr_spec::scene::{
+    BodyKind, BodySpec, ElasticSpec, FeSpec, FlexSpec, ModalSettings, Orientation,
+};
 use ffr_spec::{Param, Params, Reference};
 use std::ops::Range;
 use std::path::Path;
@@ -61,6 +63,8 @@ pub(super) fn bodies(
                 inertia,
                 centre,
             }
+        } else if let Some(fe) = &rb.fe {
+            fe_body(c, name_s, rb, fe, dim, base)?
         } else {
             let shape = rb.shape.as_ref().ok_or_else(|| c.err(span.clone(), format!("body `{name_s}` needs `shape = \"beam2\"` (flexible) or `mass = …` (rigid)")))?;
             let (n, nodes) = mesh(c, name_s, rb, span.clone())?;
@@ -245,6 +249,158 @@ pub(super) fn bodies(
         });
     }
     Ok(out)
+}
+
+/// The largest node index an FE body's keys may name before its node file
+/// is read (the reader's bound on nodes; the file's own count is checked
+/// when the scene is built).
+const MAX_FE_NODE_INDEX: i64 = 1 << 20;
+
+/// A body from finite-element matrices (`fe = {…}`): the files resolved
+/// against the scene file's directory, `reference` (`clamped` with
+/// `interface` nodes, or `free`), the reduction (`modes` required;
+/// Craig–Bampton on `boundary_nodes`). What needs the files (node counts,
+/// mode counts) is checked when the scene is built.
+fn fe_body(
+    c: &Ctx,
+    name: &str,
+    rb: &RawBody,
+    fe: &Spanned<RawFe>,
+    dim: usize,
+    base: &Path,
+) -> Result<BodyKind, Error> {
+    let raw = fe.get_ref();
+    if dim != 3 {
+        return Err(c.err(
+            fe.span(),
+            format!("FE body `{name}`: an FE body is spatial (three translations per node): use `dimension = 3`"),
+        ));
+    }
+    if let Some(m) = &rb.masses {
+        return Err(c.err(
+            m.first().map_or(fe.span(), |m| m.span()),
+            format!("FE body `{name}`: attached masses (`masses`) are on a beam's axis; put the mass into the FE model's mass matrix"),
+        ));
+    }
+    let file = |v: &Spanned<String>, what: &str| -> Result<String, Error> {
+        let s = v.get_ref();
+        if s.trim().is_empty() {
+            return Err(c.err(
+                v.span(),
+                format!("FE body `{name}`: `fe.{what}` is an empty path"),
+            ));
+        }
+        Ok(base.join(s).display().to_string())
+    };
+    let nodes = file(&raw.nodes, "nodes")?;
+    let mass = file(&raw.mass, "mass")?;
+    let stiffness = file(&raw.stiffness, "stiffness")?;
+    let stiffness_scale = match &raw.stiffness_scale {
+        None => 1.0,
+        Some(v) => pos_f64(c, v, "fe.stiffness_scale")?,
+    };
+    let free = match rb.reference.as_ref().map(|r| (r.get_ref().as_str(), r.span())) {
+        None | Some(("clamped", _)) => false,
+        Some(("free", _)) => true,
+        Some((other, span)) => {
+            return Err(c.err(
+                span,
+                format!(
+                    "FE body `{name}`: `reference` is \"clamped\" (the frame fixed to the interface nodes) or \"free\" (free-free modes), found `{}`",
+                    q(other)
+                ),
+            ))
+        }
+    };
+    let interface = match &rb.interface {
+        None => Vec::new(),
+        Some(v) => {
+            let mut out = Vec::new();
+            for &i in v.get_ref() {
+                if !(0..MAX_FE_NODE_INDEX).contains(&i) {
+                    return Err(c.err(
+                        v.span(),
+                        format!("FE body `{name}`: interface node {i} is not a 0-based node index"),
+                    ));
+                }
+                if out.contains(&(i as usize)) {
+                    return Err(c.err(
+                        v.span(),
+                        format!("FE body `{name}`: interface node {i} appears twice"),
+                    ));
+                }
+                out.push(i as usize);
+            }
+            out
+        }
+    };
+    if !free && interface.is_empty() {
+        return Err(c.err(
+            rb.interface.as_ref().map_or(fe.span(), |v| v.span()),
+            format!("FE body `{name}`: a clamped FE body needs `interface = [i, j, …]`, the nodes its frame is fixed to (0-based rows of the node file); or `reference = \"free\"`"),
+        ));
+    }
+    let Some(modes) = &rb.modes else {
+        return Err(c.err(
+            fe.span(),
+            format!("FE body `{name}` needs `modes = K`: an FE body runs reduced to its K lowest normal modes (plus static modes)"),
+        ));
+    };
+    if let Some(b) = &rb.boundary_nodes {
+        if let Some(i) = b
+            .get_ref()
+            .iter()
+            .find(|i| !(0..MAX_FE_NODE_INDEX).contains(*i))
+        {
+            return Err(c.err(
+                b.span(),
+                format!("FE body `{name}`: boundary node {i} is not a 0-based node index"),
+            ));
+        }
+    }
+    // The beams' checks of `modes`, `reduction`, `modal_damping`; the
+    // boundary is FE nodes, checked here and against the node file when
+    // the scene is built.
+    let (mut settings, modes_span) =
+        modal_settings(c, name, rb, MAX_FE_NODE_INDEX as usize)?.expect("`modes` is given");
+    if rb
+        .reduction
+        .as_ref()
+        .is_some_and(|r| r.get_ref() == "craig-bampton")
+    {
+        if free {
+            return Err(c.err(
+                rb.reduction.as_ref().map_or(modes.span(), |r| r.span()),
+                format!("FE body `{name}`: Craig–Bampton on a free FE body is not available: its constraint modes contain the rigid motions the frame already has; use `reference = \"clamped\"` with `boundary_nodes`"),
+            ));
+        }
+        let Some(b) = &rb.boundary_nodes else {
+            return Err(c.err(
+                rb.reduction.as_ref().map_or(modes.span(), |r| r.span()),
+                format!("FE body `{name}`: `reduction = \"craig-bampton\"` needs `boundary_nodes = [i, …]`: FE nodes (not interface nodes, which are fixed to the frame) whose displacements are kept as constraint modes"),
+            ));
+        };
+        if let Some(i) = settings.boundary.iter().find(|i| interface.contains(i)) {
+            return Err(c.err(
+                b.span(),
+                format!("FE body `{name}`: boundary node {i} is an interface node: its displacements are fixed to the frame of a clamped body"),
+            ));
+        }
+    }
+    settings.boundary.sort_unstable();
+    settings.boundary.dedup();
+    Ok(BodyKind::Fe(FeSpec {
+        name: name.to_string(),
+        nodes,
+        mass,
+        stiffness,
+        stiffness_scale,
+        fe_at: c.loc(fe.span()),
+        free,
+        interface,
+        interface_at: c.loc(rb.interface.as_ref().map_or(fe.span(), |v| v.span())),
+        modal: (settings, c.loc(modes_span)),
+    }))
 }
 
 /// The mesh a flexible body asks for: `elements = N` equal elements, or

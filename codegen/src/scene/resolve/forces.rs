@@ -60,6 +60,9 @@ pub(super) fn force(c: &Ctx, b: &Markers, f: &RawForce) -> Result<ForceSpec, Err
             (MarkerPoint::Axis(i, x), MarkerPoint::Axis(j, y)) if i == j && x == y => {
                 same(format!("are the same point of body `{}`", b.names[*i]))
             }
+            (MarkerPoint::Node(i, x), MarkerPoint::Node(j, y)) if i == j && x == y => {
+                same(format!("are the same node of body `{}`", b.names[*i]))
+            }
             _ => match (rigid_ends(&ma), rigid_ends(&mb)) {
                 (Some(i), Some(j)) if i == j => same(format!(
                     "are both fixed in the frame of body `{}`",

@@ -14,6 +14,8 @@ pub(super) struct Markers<'a> {
     pub(super) dim: usize,
     pub(super) names: Vec<String>,
     pub(super) rigid: Vec<bool>,
+    /// Which bodies are FE bodies (`fe = {…}`; markers `NAME@node=N`).
+    pub(super) fe: Vec<bool>,
 }
 
 impl Markers<'_> {
@@ -31,7 +33,7 @@ impl Markers<'_> {
         let text = s.get_ref().trim();
         let allowed = || {
             format!(
-                "a marker is `ground@[x, y{}]`, `NAME` (a body's frame origin), `NAME@x=…` (a point on a beam's axis) or `NAME@[x, y{}]` (a point fixed in a body's frame); bodies: {}",
+                "a marker is `ground@[x, y{}]`, `NAME` (a body's frame origin), `NAME@x=…` (a point on a beam's axis), `NAME@node=N` (a node of an FE body) or `NAME@[x, y{}]` (a point fixed in a body's frame); bodies: {}",
                 if self.dim == 3 { ", z" } else { "" },
                 if self.dim == 3 { ", z" } else { "" },
                 self.names.join(", ")
@@ -81,6 +83,31 @@ impl Markers<'_> {
         };
         match rest {
             None => Ok(MarkerPoint::Origin(i)),
+            Some(r) if r.starts_with("node") => {
+                let v = r
+                    .strip_prefix("node")
+                    .map(str::trim_start)
+                    .and_then(|r| r.strip_prefix('='))
+                    .map(str::trim)
+                    .unwrap_or("");
+                let n: usize = v.parse().ok().filter(|n| *n < 1 << 20).ok_or_else(|| {
+                    self.c.err(
+                        s.span(),
+                        format!(
+                            "`{text}`: `node=` needs a 0-based node index; {}",
+                            allowed(),
+                            text = q(text)
+                        ),
+                    )
+                })?;
+                if !self.fe[i] {
+                    return Err(self.c.err(
+                        s.span(),
+                        format!("`{text}`: `{name}` is not an FE body; `@node=N` names a node of a body with `fe = {{…}}`", text = q(text), name = q(name)),
+                    ));
+                }
+                Ok(MarkerPoint::Node(i, n))
+            }
             Some(r) if r.starts_with("x=") || r.starts_with("x =") => {
                 let v = r.split_once('=').map(|(_, v)| v.trim()).unwrap_or("");
                 let x: f64 = v
@@ -97,6 +124,12 @@ impl Markers<'_> {
                             ),
                         )
                     })?;
+                if self.fe[i] {
+                    return Err(self.c.err(
+                        s.span(),
+                        format!("`{text}`: `{name}` is an FE body and has no axis; name one of its nodes, `{name}@node=N`", text = q(text), name = q(name)),
+                    ));
+                }
                 if self.rigid[i] {
                     return Err(self.c.err(
                         s.span(),

@@ -122,11 +122,13 @@ pub fn resolve(raw: &RawScene, text: &str, file: &str, base: &Path) -> Result<Sc
         ));
     }
     let rigid: Vec<bool> = raw.bodies.values().map(|b| b.mass.is_some()).collect();
+    let fe: Vec<bool> = raw.bodies.values().map(|b| b.fe.is_some()).collect();
     let markers = markers::Markers {
         c: &c,
         dim,
         names,
         rigid,
+        fe,
     };
     let bodies = bodies::bodies(&c, raw, dim, base, &models)?;
     let gravity = match &raw.gravity {
