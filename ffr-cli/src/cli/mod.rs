@@ -136,6 +136,15 @@ pub enum Command {
         /// (comparisons).
         #[arg(long)]
         general: bool,
+        /// Write a ParaView time series into DIR: DIR/SCENE.pvd and one VTK
+        /// XML PolyData file (.vtp) per written step (see docs/vtk.md).
+        #[arg(long, value_name = "DIR")]
+        vtk: Option<PathBuf>,
+        /// With --vtk: write every K-th step (the initial state always); at
+        /// most 10000 step files.
+        #[arg(long, value_name = "K", requires = "vtk", default_value_t = 1,
+              value_parser = clap::value_parser!(u64).range(1..))]
+        every: u64,
     },
     /// Print the generated Rust: element kernels of a shape, a body with a
     /// fixed mesh (`--elements`), or every flexible body of a scene (`--scene`).
@@ -295,7 +304,15 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             csv,
             svg,
             general,
-        }) => run_scene(&scene, &csv, &svg, general).map(|_| ()),
+            vtk,
+            every,
+        }) => {
+            let vtk = vtk.map(|dir| ffr::scene::vtk::VtkOptions {
+                dir,
+                every: usize::try_from(every).unwrap_or(usize::MAX),
+            });
+            run_scene(&scene, &csv, &svg, general, vtk).map(|_| ())
+        }
         None => spin_up(&SpinUpArgs::default()).map(|_| ()),
     }
 }

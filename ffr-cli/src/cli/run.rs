@@ -11,6 +11,7 @@ pub fn run_scene(
     csv: &Option<PathBuf>,
     svg: &Option<PathBuf>,
     general: bool,
+    vtk: Option<ffr::scene::vtk::VtkOptions>,
 ) -> Result<ffr::scene::SceneRun, Box<dyn std::error::Error>> {
     let scene = if general {
         ffr::scene::load_with(path, &ffr::scene::GeneralKernels)?
@@ -23,7 +24,9 @@ pub fn run_scene(
         .unwrap_or_else(|| "scene".into());
     let (csv, svg) = outputs(csv, svg, &tag)?;
     let c0 = crate::clock::thread_cpu_seconds();
-    let r = ffr::scene::run(&scene)?;
+    let mut options = ffr::scene::RunOptions::default();
+    options.vtk = vtk.clone();
+    let r = ffr::scene::run_with(&scene, &options)?;
     let cpu = crate::clock::thread_cpu_seconds() - c0;
     let names: Vec<&str> = r.names.iter().map(String::as_str).collect();
     let cols: Vec<&[f64]> = r.columns.iter().map(Vec::as_slice).collect();
@@ -82,6 +85,20 @@ pub fn run_scene(
         cpu
     )?;
     crate::outln!("wrote {} and {}", csv.display(), svg.display())?;
+    if let Some(v) = &vtk {
+        let files = r.t.len().div_ceil(v.every);
+        crate::outln!(
+            "wrote {} and {files} VTK step files (every {} of {} samples)",
+            v.dir
+                .join(format!(
+                    "{}.pvd",
+                    ffr::scene::vtk::scene_stem(&scene.origin)
+                ))
+                .display(),
+            v.every,
+            r.t.len()
+        )?;
+    }
     if let Some(f) = &r.failed {
         return Err(format!(
             "the run stopped at t = {:.6} s: {f}",

@@ -1,0 +1,191 @@
+"""`ffr run --vtk` and `ffr modes --vtk` read back by VTK's own XML readers
+(the `vtk` package): the axis points are the scene's position outputs at
+those points, the `.pvd` times are the run's times, `--every` bounds the
+files, the files are deterministic, and nothing that is not a file ffr wrote
+is replaced (see docs/vtk.md)."""
+
+import csv
+import math
+import os
+import subprocess
+import tomllib
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, SCENES
+
+vtk = pytest.importorskip("vtk")
+from vtk.util.numpy_support import vtk_to_numpy  # noqa: E402
+
+
+def run_ffr(ffr_bin, *args):
+    return subprocess.run(
+        [str(ffr_bin), *map(str, args)],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    names = rows[0]
+    data = np.array([[float(x) for x in r] for r in rows[1:]])
+    return {n: data[:, i] for i, n in enumerate(names)}
+
+
+def read_pvd(path):
+    """(time, file) of every data set of a ParaView collection, parsed by
+    VTK's XML parser (VTK has no reader of ParaView's `.pvd` itself; ParaView
+    reads it with its PVD reader)."""
+    p = vtk.vtkXMLDataParser()
+    p.SetFileName(str(path))
+    assert p.Parse() == 1, path
+    root = p.GetRootElement()
+    assert root.GetName() == "VTKFile" and root.GetAttribute("type") == "Collection"
+    coll = root.GetNestedElement(0)
+    assert coll.GetName() == "Collection"
+    sets = [coll.GetNestedElement(i) for i in range(coll.GetNumberOfNestedElements())]
+    return [float(d.GetAttribute("timestep")) for d in sets], [d.GetAttribute("file") for d in sets]
+
+
+def read_vtp(path):
+    r = vtk.vtkXMLPolyDataReader()
+    r.SetFileName(str(path))
+    r.Update()
+    assert r.GetErrorCode() == 0, path
+    poly = r.GetOutput()
+    pd = poly.GetPointData()
+    arrays = {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)) for i in range(pd.GetNumberOfArrays())}
+    return vtk_to_numpy(poly.GetPoints().GetData()), arrays, poly
+
+
+# The slider-crank (a flexible rod, a rigid crank and slider, joints) for
+# 0.01 s, with position outputs at every rod node, at points between nodes,
+# and at the slider's frame origin.
+ROD_ELEMENTS = 8
+ROD_LENGTH = 0.3
+
+
+def slider_crank(tmp_path):
+    text = (SCENES / "slider_crank.toml").read_text()
+    spec = tomllib.loads(text)
+    assert spec["bodies"]["rod"]["elements"] == ROD_ELEMENTS
+    assert spec["bodies"]["rod"]["params"]["length"] == ROD_LENGTH
+    text = text.replace("t_end = 0.1\n", "t_end = 0.01\n")
+    xs = [ROD_LENGTH * i / ROD_ELEMENTS for i in range(ROD_ELEMENTS + 1)]
+    # points between nodes: the writer puts 3 at quarters of each element
+    between = [xs[2] + (xs[3] - xs[2]) * k / 4 for k in (1, 2, 3)]
+    for i, x in enumerate(xs + between):
+        for c in "xy":
+            text += f'\n[[outputs]]\nname = "p{i}_{c}"\nkind = "position"\nat = "rod@x={x!r}"\ncomponent = "{c}"\n'
+    path = tmp_path / "crank.toml"
+    path.write_text(text)
+    return path, xs, between
+
+
+def test_series_matches_position_outputs_and_times(ffr_bin, tmp_path):
+    scene, xs, between = slider_crank(tmp_path)
+    every = 7
+    out = tmp_path / "vtk"
+    r = run_ffr(ffr_bin, "run", scene, "--csv", tmp_path / "o.csv", "--vtk", out, "--every", every)
+    assert r.returncode == 0, r.stderr
+    cols = read_csv(tmp_path / "o.csv")
+    t = cols["t"]
+    times, files = read_pvd(out / "crank.pvd")
+    rows = list(range(0, len(t), every))
+    # --every bounds the files: one per `every` samples, the first included.
+    assert len(files) == math.ceil(len(t) / every) == len(rows)
+    assert sorted(os.listdir(out)) == sorted(files + ["crank.pvd"])
+    # The .pvd times are the run's times (written in the shortest form that
+    # reads back to the same double).
+    assert times == [t[i] for i in rows]
+    order = ["crank", "rod", "slider"]
+    for f, i in zip(files, rows):
+        pts, a, poly = read_vtp(out / f)
+        rod = (a["body"] == order.index("rod"))
+        # the rod's axis: nodes (kind 1) and points between (kind 0) in x order
+        assert np.all(np.diff(a["x"][rod]) > 0)
+        assert poly.GetNumberOfLines() == 1
+        nodes = rod & (a["kind"] == 1)
+        assert np.array_equal(a["x"][nodes], np.array(xs))
+        got = pts[nodes][:, :2]
+        want = np.array([[cols[f"p{j}_x"][i], cols[f"p{j}_y"][i]] for j in range(len(xs))])
+        assert np.max(np.abs(got - want)) <= 1e-15 * (1 + np.max(np.abs(want)))
+        mid = rod & (a["kind"] == 0) & (a["x"] > xs[2]) & (a["x"] < xs[3])
+        got = pts[mid][:, :2]
+        want = np.array(
+            [[cols[f"p{len(xs) + k}_x"][i], cols[f"p{len(xs) + k}_y"][i]] for k in range(len(between))]
+        )
+        assert np.max(np.abs(got - want)) <= 1e-15 * (1 + np.max(np.abs(want)))
+        # the rigid slider: its frame's origin (kind 2) is the slider_x output
+        slider = (a["body"] == order.index("slider")) & (a["kind"] == 2)
+        assert slider.sum() == 1
+        assert abs(pts[slider][0, 0] - cols["slider_x"][i]) <= 1e-15 * (1 + abs(cols["slider_x"][i]))
+        # joints (kind 3): the scene's three revolutes not folded and its prismatic
+        assert (a["kind"] == 3).sum() >= 1
+        # section axes are unit to first order in the small rotation
+        for k in "xyz":
+            assert np.all(np.abs(np.linalg.norm(a[f"axis_{k}"], axis=1) - 1) < 1e-3)
+
+
+def test_series_is_deterministic(ffr_bin, tmp_path):
+    scene, _, _ = slider_crank(tmp_path)
+    dirs = [tmp_path / "a", tmp_path / "b"]
+    for i, d in enumerate(dirs):
+        r = run_ffr(ffr_bin, "run", scene, "--csv", tmp_path / f"o{i}.csv", "--vtk", d, "--every", 40)
+        assert r.returncode == 0, r.stderr
+    names = sorted(os.listdir(dirs[0]))
+    assert names == sorted(os.listdir(dirs[1])) and len(names) > 2
+    for n in names:
+        assert (dirs[0] / n).read_bytes() == (dirs[1] / n).read_bytes(), n
+    # and rewriting the same directory replaces ffr's own files
+    r = run_ffr(ffr_bin, "run", scene, "--csv", tmp_path / "o0.csv", "--vtk", dirs[0], "--every", 40)
+    assert r.returncode == 0, r.stderr
+
+
+def test_refuses_to_replace_what_is_not_its_own(ffr_bin, tmp_path):
+    scene = SCENES / "spin_up.toml"
+    out = tmp_path / "vtk"
+    out.mkdir()
+    csv_out = tmp_path / "o.csv"
+    # a directory where a step file goes
+    (out / "spin_up_0100.vtp").mkdir()
+    r = run_ffr(ffr_bin, "run", scene, "--csv", csv_out, "--vtk", out, "--every", 100)
+    assert r.returncode != 0
+    assert "spin_up_0100.vtp: is a directory, not a regular file: not replaced" in r.stderr
+    assert sorted(os.listdir(out)) == ["spin_up_0100.vtp"]
+    (out / "spin_up_0100.vtp").rmdir()
+    # a symbolic link
+    (tmp_path / "target").write_text("keep")
+    os.symlink(tmp_path / "target", out / "spin_up.pvd")
+    r = run_ffr(ffr_bin, "run", scene, "--csv", csv_out, "--vtk", out, "--every", 100)
+    assert r.returncode != 0
+    assert "spin_up.pvd: is a symbolic link, not a regular file" in r.stderr
+    assert (tmp_path / "target").read_text() == "keep"
+    os.unlink(out / "spin_up.pvd")
+    # a regular file ffr did not write
+    (out / "spin_up_0000.vtp").write_text("<VTKFile/>")
+    r = run_ffr(ffr_bin, "run", scene, "--csv", csv_out, "--vtk", out, "--every", 100)
+    assert r.returncode != 0
+    assert "spin_up_0000.vtp: exists and was not written by ffr: not replaced" in r.stderr
+    assert (out / "spin_up_0000.vtp").read_text() == "<VTKFile/>"
+    assert sorted(os.listdir(out)) == ["spin_up_0000.vtp"]
+    # DIR itself a file
+    r = run_ffr(ffr_bin, "run", scene, "--csv", csv_out, "--vtk", tmp_path / "target")
+    assert r.returncode != 0
+    assert "exists and is not a directory" in r.stderr
+
+
+def test_every_has_a_hard_bound(ffr_bin, tmp_path):
+    # 20001 samples: more than the 10000 files a series may have.
+    text = (SCENES / "spin_up.toml").read_text().replace("dt = 0.01\n", "dt = 0.001\n")
+    scene = tmp_path / "fine.toml"
+    scene.write_text(text)
+    r = run_ffr(ffr_bin, "run", scene, "--csv", tmp_path / "o.csv", "--vtk", tmp_path / "v")
+    assert r.returncode != 0
+    assert "more than the limit of 10000" in r.stderr and "--every 3" in r.stderr
+    assert not (tmp_path / "v").exists() or os.listdir(tmp_path / "v") == []

@@ -1,0 +1,599 @@
+//! ParaView time series and mode-shape animations (feature `vtk`): VTK XML
+//! PolyData files (`.vtp`, written by the `vtkio` crate) and a ParaView
+//! collection (`.pvd`) listing them with their times.
+//!
+//! What a file holds (global frame, the scene's units):
+//!
+//! - every flexible beam body's deformed axis as one polyline through its
+//!   nodes and [`POINTS_BETWEEN_NODES`] points between each pair, each
+//!   point placed by the body's point shape ([`crate::runtime::Body::point_shape`],
+//!   the same evaluation as the scene's position outputs);
+//! - every rigid body as one vertex at its frame's origin, and every joint
+//!   (constraint) as one vertex at its marker `a`.
+//!
+//! Point data (one value per point): `displacement` (the elastic
+//! displacement `A Σ s_j q_j`, global axes), `rotation` (the section's small
+//! rotation `A ψ`, global axes), `axis_x`, `axis_y`, `axis_z` (the section's
+//! axes `A (e_k + ψ × e_k)`; a rigid body's or joint marker's axes), `x`
+//! (the point's place on the undeformed axis; 0 for vertices), `body` (the
+//! body's index in the scene, -1 for a joint) and `kind` (0 a point between
+//! nodes, 1 a node, 2 a rigid body's frame, 3 a joint).
+//!
+//! The points of a body come from a [`DrawnBody`]: a beam's axis today; a
+//! body of nodes (a finite-element body) adds its nodes as points with
+//! [`Drawn::Nodes`] (drawn as vertices, no polyline).
+//!
+//! Files: `DIR/<name>.pvd` and `DIR/<name>_<step>.vtp`. Each is written to
+//! a temporary file in `DIR` and renamed over its target. An existing file
+//! is replaced only if it is a regular file that ffr wrote (it starts with
+//! [`MARK`]); anything else (a directory, a symbolic link, a device, a file
+//! without the mark) is refused before anything is written.
+
+use super::model::Scene;
+use crate::runtime::marker::{BodyId, Marker, MarkerKin};
+use crate::runtime::nalgebra::Vector3;
+use crate::runtime::{Body, System};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, DataArray, DataSet, ElementType, PolyDataPiece, Version,
+    VertexNumbers, Vtk,
+};
+
+/// The most step files one series writes (a run with more samples needs
+/// `every` ≥ samples / this bound).
+pub const MAX_VTK_FILES: usize = 10_000;
+
+/// Points drawn between two neighbouring nodes of a beam's axis (at equal
+/// spacing in the undeformed `x`).
+pub const POINTS_BETWEEN_NODES: usize = 3;
+
+/// How every file ffr writes here starts: an existing file is replaced only
+/// if it starts with this.
+pub const MARK: &str =
+    "<?xml version=\"1.0\"?>\n<!-- written by ffr (ParaView time series); ffr may replace it -->\n";
+
+/// A time series to write during a run: into `dir`, one step file per
+/// `every` recorded samples (the first sample, the initial state, always).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct VtkOptions {
+    /// The directory (created if needed).
+    pub dir: PathBuf,
+    /// Write samples `0, every, 2·every, …` (≥ 1).
+    pub every: usize,
+}
+
+impl VtkOptions {
+    /// Every sample into `dir`.
+    pub fn new(dir: impl Into<PathBuf>) -> Self {
+        Self {
+            dir: dir.into(),
+            every: 1,
+        }
+    }
+}
+
+/// How a body is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Drawn {
+    /// A beam's axis: one polyline through its points in order.
+    Axis,
+    /// A body of nodes (finite elements): its points as vertices.
+    Nodes,
+    /// A rigid body: its frame's origin as one vertex.
+    Frame,
+    /// A joint: its marker `a` as one vertex.
+    Joint,
+}
+
+/// A point of a body to draw.
+#[derive(Clone, Debug)]
+pub struct DrawnPoint {
+    /// Where (a marker of the body, moved by its elastic coordinates).
+    pub marker: Marker,
+    /// The same point, not moved by elastic coordinates, with the body's
+    /// axes: gives the frame's rotation `A` (its axes' columns).
+    pub frame: Marker,
+    /// Undeformed `x` on the axis (0 off an axis).
+    pub x: f64,
+    /// Whether it is a node.
+    pub node: bool,
+}
+
+/// A body (or joint) and its points to draw.
+#[derive(Clone, Debug)]
+pub struct DrawnBody {
+    /// Its name (for messages).
+    pub name: String,
+    /// Its index in the scene (`None` for a joint).
+    pub body: Option<BodyId>,
+    /// How.
+    pub kind: Drawn,
+    /// The points.
+    pub points: Vec<DrawnPoint>,
+}
+
+/// The nodes' `x` of a flexible body: the graded mesh's, or `elements + 1`
+/// equal spacings of `length`.
+fn node_xs(f: &super::FlexSpec) -> Vec<f64> {
+    match &f.nodes {
+        Some(x) => x.clone(),
+        None => {
+            let n = f.elements.max(1);
+            (0..=n)
+                .map(|i| {
+                    if i == n {
+                        f.params.length
+                    } else {
+                        f.params.length * i as f64 / n as f64
+                    }
+                })
+                .collect()
+        }
+    }
+}
+
+/// What a scene draws: its flexible bodies' axes (in body order), its rigid
+/// bodies' frames, its joints.
+pub fn drawing(scene: &Scene) -> crate::Result<Vec<DrawnBody>> {
+    let sys = &scene.system;
+    let mut out = Vec::new();
+    for (i, e) in sys.bodies().iter().enumerate() {
+        let id = BodyId(i);
+        let rigid = |u0: Vector3<f64>| Marker::at(id, u0);
+        if let Some(f) = scene.flex.iter().find(|f| f.name == e.name) {
+            let nodes = node_xs(f);
+            let mut points = Vec::new();
+            for (j, &x) in nodes.iter().enumerate() {
+                let mut xs = vec![(x, true)];
+                if let Some(&next) = nodes.get(j + 1) {
+                    let m = POINTS_BETWEEN_NODES + 1;
+                    xs.extend((1..m).map(|k| (x + (next - x) * k as f64 / m as f64, false)));
+                }
+                for (x, node) in xs {
+                    let marker = sys.point(id, x)?;
+                    let frame = rigid(Vector3::from(marker.shape.u0));
+                    points.push(DrawnPoint {
+                        marker,
+                        frame,
+                        x,
+                        node,
+                    });
+                }
+            }
+            out.push(DrawnBody {
+                name: e.name.clone(),
+                body: Some(id),
+                kind: Drawn::Axis,
+                points,
+            });
+        } else {
+            out.push(DrawnBody {
+                name: e.name.clone(),
+                body: Some(id),
+                kind: Drawn::Frame,
+                points: vec![DrawnPoint {
+                    marker: Marker::origin(id),
+                    frame: Marker::origin(id),
+                    x: 0.0,
+                    node: false,
+                }],
+            });
+        }
+    }
+    for c in sys.constraints() {
+        let frame = match c.a.body {
+            Some(b) => Marker::at(b, Vector3::from(c.a.shape.u0)),
+            None => c.a.clone(),
+        };
+        out.push(DrawnBody {
+            name: c.kind.clone(),
+            body: None,
+            kind: Drawn::Joint,
+            points: vec![DrawnPoint {
+                marker: c.a.clone(),
+                frame,
+                x: 0.0,
+                node: false,
+            }],
+        });
+    }
+    Ok(out)
+}
+
+/// A drawing evaluated at configurations: markers' workspaces allocated once.
+pub struct Frames {
+    bodies: Vec<DrawnBody>,
+    kins: Vec<Vec<(MarkerKin, MarkerKin)>>,
+}
+
+impl Frames {
+    /// Workspaces for `bodies` of `sys`.
+    pub fn new(sys: &System<Box<dyn Body>>, bodies: Vec<DrawnBody>) -> Self {
+        let kins = bodies
+            .iter()
+            .map(|b| {
+                b.points
+                    .iter()
+                    .map(|p| (sys.marker_kin(&p.marker), sys.marker_kin(&p.frame)))
+                    .collect()
+            })
+            .collect();
+        Self { bodies, kins }
+    }
+
+    /// The bodies drawn.
+    pub fn bodies(&self) -> &[DrawnBody] {
+        &self.bodies
+    }
+
+    /// The drawing at the coordinates `q`, as one PolyData piece.
+    pub fn piece(&mut self, q: &[f64]) -> PolyDataPiece {
+        let n: usize = self.bodies.iter().map(|b| b.points.len()).sum();
+        let mut points: Vec<f64> = Vec::with_capacity(3 * n);
+        let mut disp = Vec::with_capacity(3 * n);
+        let mut rot = Vec::with_capacity(3 * n);
+        let mut axes: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(3 * n));
+        let mut xs = Vec::with_capacity(n);
+        let mut body = Vec::with_capacity(n);
+        let mut kind = Vec::with_capacity(n);
+        let (mut lines_conn, mut lines_off) = (Vec::new(), Vec::new());
+        let (mut verts_conn, mut verts_off) = (Vec::new(), Vec::new());
+        for (b, kins) in self.bodies.iter().zip(&mut self.kins) {
+            let first = (points.len() / 3) as u64;
+            for (p, (k, k0)) in b.points.iter().zip(kins.iter_mut()) {
+                k.eval(&p.marker, q);
+                k0.eval(&p.frame, q);
+                // The frame's axes (columns of A) at the point.
+                let a = k0.axes;
+                let (mut d, mut psi) = (Vector3::zeros(), Vector3::zeros());
+                for (j, (_, s, r)) in p.marker.shape.entries.iter().enumerate() {
+                    let qj = q[k.idx[k.n_frame + j]];
+                    d += Vector3::from(*s) * qj;
+                    psi += Vector3::from(*r) * qj;
+                }
+                let global = |v: Vector3<f64>| a[0] * v.x + a[1] * v.y + a[2] * v.z;
+                points.extend(k.pos.iter());
+                disp.extend(global(d).iter());
+                rot.extend(global(psi).iter());
+                for c in 0..3 {
+                    axes[c].extend(k.axes[c].iter());
+                }
+                xs.push(p.x);
+                body.push(b.body.map_or(-1, |id| id.0 as i32));
+                kind.push(match b.kind {
+                    Drawn::Axis | Drawn::Nodes => i32::from(p.node),
+                    Drawn::Frame => 2,
+                    Drawn::Joint => 3,
+                });
+            }
+            let last = (points.len() / 3) as u64;
+            match b.kind {
+                Drawn::Axis => {
+                    lines_conn.extend(first..last);
+                    lines_off.push(lines_conn.len() as u64);
+                }
+                Drawn::Nodes | Drawn::Frame | Drawn::Joint => {
+                    for i in first..last {
+                        verts_conn.push(i);
+                        verts_off.push(verts_conn.len() as u64);
+                    }
+                }
+            }
+        }
+        let vectors = |name: &str, v: Vec<f64>| {
+            Attribute::DataArray(DataArray {
+                name: name.into(),
+                elem: ElementType::Vectors,
+                data: v.into(),
+            })
+        };
+        let scalars = |name: &str, data: vtkio::IOBuffer| {
+            Attribute::DataArray(DataArray {
+                name: name.into(),
+                elem: ElementType::Scalars {
+                    num_comp: 1,
+                    lookup_table: None,
+                },
+                data,
+            })
+        };
+        let [ax, ay, az] = axes;
+        let cells = |conn: Vec<u64>, off: Vec<u64>| {
+            (!off.is_empty()).then_some(VertexNumbers::XML {
+                connectivity: conn,
+                offsets: off,
+            })
+        };
+        PolyDataPiece {
+            points: points.into(),
+            verts: cells(verts_conn, verts_off),
+            lines: cells(lines_conn, lines_off),
+            polys: None,
+            strips: None,
+            data: Attributes {
+                point: vec![
+                    vectors("displacement", disp),
+                    vectors("rotation", rot),
+                    vectors("axis_x", ax),
+                    vectors("axis_y", ay),
+                    vectors("axis_z", az),
+                    scalars("x", xs.into()),
+                    scalars("body", body.into()),
+                    scalars("kind", kind.into()),
+                ],
+                cell: Vec::new(),
+            },
+        }
+    }
+}
+
+/// A PolyData file's text: [`MARK`], then the VTK XML (binary data inline,
+/// base64, little endian).
+pub fn vtp_text(piece: PolyDataPiece) -> crate::Result<Vec<u8>> {
+    let vtk = Vtk {
+        version: Version::new_xml(1, 0),
+        title: String::new(),
+        byte_order: ByteOrder::LittleEndian,
+        file_path: None,
+        data: DataSet::inline(piece),
+    };
+    let mut out = MARK.as_bytes().to_vec();
+    vtk.write_xml(&mut out)
+        .map_err(|e| crate::Error::Invalid(format!("cannot write the VTK file: {e}")))?;
+    out.push(b'\n');
+    Ok(out)
+}
+
+/// A ParaView collection's text: [`MARK`], then `<VTKFile
+/// type="Collection">` with one `<DataSet timestep=… file=…/>` per
+/// `(time, file name)` (times in the shortest form that reads back to the
+/// same `f64`).
+pub fn pvd_text(steps: &[(f64, String)]) -> crate::Result<Vec<u8>> {
+    use quick_xml::events::{BytesEnd, BytesStart, Event};
+    let mut w = quick_xml::Writer::new_with_indent(Vec::new(), b' ', 2);
+    let e = |e: quick_xml::Error| crate::Error::Invalid(format!("cannot write the .pvd: {e}"));
+    let mut root = BytesStart::new("VTKFile");
+    root.push_attribute(("type", "Collection"));
+    root.push_attribute(("version", "0.1"));
+    root.push_attribute(("byte_order", "LittleEndian"));
+    w.write_event(Event::Start(root)).map_err(e)?;
+    w.write_event(Event::Start(BytesStart::new("Collection")))
+        .map_err(e)?;
+    for (t, file) in steps {
+        let mut d = BytesStart::new("DataSet");
+        let t = format!("{t:?}");
+        d.push_attribute(("timestep", t.as_str()));
+        d.push_attribute(("group", ""));
+        d.push_attribute(("part", "0"));
+        d.push_attribute(("file", file.as_str()));
+        w.write_event(Event::Empty(d)).map_err(e)?;
+    }
+    w.write_event(Event::End(BytesEnd::new("Collection")))
+        .map_err(e)?;
+    w.write_event(Event::End(BytesEnd::new("VTKFile")))
+        .map_err(e)?;
+    let mut out = MARK.as_bytes().to_vec();
+    out.extend(w.into_inner());
+    out.push(b'\n');
+    Ok(out)
+}
+
+/// `Ok` if `path` may be written: it does not exist, or it is a regular
+/// file that starts with [`MARK`]. Otherwise an error naming the path and
+/// what it is.
+pub fn check_ours(path: &Path) -> crate::Result<()> {
+    let meta = match std::fs::symlink_metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => {
+            return Err(crate::Error::Invalid(format!(
+                "{}: cannot be examined: {e}",
+                path.display()
+            )))
+        }
+        Ok(m) => m,
+    };
+    let t = meta.file_type();
+    if !t.is_file() {
+        let what = if t.is_dir() {
+            "a directory"
+        } else if t.is_symlink() {
+            "a symbolic link"
+        } else {
+            "not a regular file"
+        };
+        return Err(crate::Error::Invalid(format!(
+            "{}: is {what}, not a regular file: not replaced (remove it or write the series to another directory)",
+            path.display()
+        )));
+    }
+    let mut head = Vec::new();
+    {
+        use std::io::Read;
+        let f = std::fs::File::open(path)
+            .map_err(|e| crate::Error::Invalid(format!("{}: {e}", path.display())))?;
+        f.take(MARK.len() as u64)
+            .read_to_end(&mut head)
+            .map_err(|e| crate::Error::Invalid(format!("{}: {e}", path.display())))?;
+    }
+    if head == MARK.as_bytes() {
+        Ok(())
+    } else {
+        Err(crate::Error::Invalid(format!(
+            "{}: exists and was not written by ffr: not replaced (remove it or write the series to another directory)",
+            path.display()
+        )))
+    }
+}
+
+/// Check `dir` (a directory, or nothing yet) and create it.
+pub fn prepare_dir(dir: &Path) -> crate::Result<()> {
+    if let Ok(m) = std::fs::metadata(dir) {
+        if !m.is_dir() {
+            return Err(crate::Error::Invalid(format!(
+                "{}: exists and is not a directory (the VTK series is written into a directory)",
+                dir.display()
+            )));
+        }
+    }
+    std::fs::create_dir_all(dir).map_err(|e| {
+        crate::Error::Invalid(format!(
+            "{}: cannot create the directory: {e}",
+            dir.display()
+        ))
+    })
+}
+
+/// Write `contents` to `path` atomically: a synced temporary file in the
+/// same directory, renamed over `path` after [`check_ours`] once more.
+pub fn write_atomic(path: &Path, contents: &[u8]) -> crate::Result<()> {
+    let fail =
+        |e: std::io::Error| crate::Error::Invalid(format!("{}: cannot write: {e}", path.display()));
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut tmp = tempfile::Builder::new()
+        .prefix(&format!(".{name}."))
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(fail)?;
+    tmp.write_all(contents).map_err(fail)?;
+    tmp.as_file().sync_all().map_err(fail)?;
+    check_ours(path)?;
+    tmp.persist(path).map_err(|e| fail(e.error))?;
+    Ok(())
+}
+
+/// A file name's stem for a series: `name` with path separators and control
+/// characters replaced by `_` (`scene` if empty).
+pub fn series_name(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c == '/' || c == '\\' || c.is_control() {
+                '_'
+            } else {
+                c
+            }
+        })
+        .collect();
+    if s.is_empty() || s == "." || s == ".." {
+        "scene".into()
+    } else {
+        s
+    }
+}
+
+/// The name of a series' scene file without directory or extension.
+pub fn scene_stem(origin: &str) -> String {
+    series_name(
+        &Path::new(origin)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+    )
+}
+
+/// Files a series wrote.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VtkWritten {
+    /// The `.pvd`.
+    pub pvd: PathBuf,
+    /// Each step file's time and path, in order.
+    pub steps: Vec<(f64, PathBuf)>,
+}
+
+/// A time series written while a scene runs ([`super::run_with`]).
+pub struct VtkSeries {
+    dir: PathBuf,
+    name: String,
+    every: usize,
+    width: usize,
+    frames: Frames,
+    sample: usize,
+    written: Vec<(f64, String)>,
+}
+
+impl VtkSeries {
+    /// A series of `scene` named `name` (`DIR/<name>.pvd`), checked before
+    /// the run: `every` ≥ 1, at most [`MAX_VTK_FILES`] step files for the
+    /// scene's samples (`t_end / dt` steps and the initial state), the
+    /// directory usable and no file it would write refused by
+    /// [`check_ours`].
+    pub fn new(scene: &Scene, options: &VtkOptions, name: &str) -> crate::Result<Self> {
+        if options.every == 0 {
+            return Err(crate::Error::Invalid(
+                "every = 0: the VTK series writes every K-th sample, K ≥ 1".into(),
+            ));
+        }
+        let steps = (scene.t_end / scene.dt - 1e-9).ceil().max(0.0);
+        let samples = steps + 1.0;
+        let files = (samples / options.every as f64).ceil();
+        if !(files <= MAX_VTK_FILES as f64) {
+            let need = (samples / MAX_VTK_FILES as f64).ceil();
+            return Err(crate::Error::Invalid(format!(
+                "{}: {samples} samples with every = {} would write {files} VTK files, more than the limit of {MAX_VTK_FILES}: use every ≥ {need} (--every {need})",
+                scene.origin, options.every
+            )));
+        }
+        let last = (steps as usize / options.every) * options.every;
+        let width = last.to_string().len().max(4);
+        let name = series_name(name);
+        let dir = options.dir.clone();
+        prepare_dir(&dir)?;
+        check_ours(&dir.join(format!("{name}.pvd")))?;
+        for i in (0..=last).step_by(options.every) {
+            check_ours(&dir.join(format!("{name}_{i:0width$}.vtp")))?;
+        }
+        let frames = Frames::new(&scene.system, drawing(scene)?);
+        Ok(Self {
+            dir,
+            name,
+            every: options.every,
+            width,
+            frames,
+            sample: 0,
+            written: Vec::new(),
+        })
+    }
+
+    /// The next recorded sample at time `t`, coordinates `q`: written if it
+    /// is one of every `every`.
+    pub fn observe(&mut self, t: f64, q: &[f64]) -> crate::Result<()> {
+        let i = self.sample;
+        self.sample += 1;
+        if i % self.every != 0 {
+            return Ok(());
+        }
+        if self.written.len() >= MAX_VTK_FILES {
+            return Err(crate::Error::Invalid(format!(
+                "more than {MAX_VTK_FILES} VTK files: not written"
+            )));
+        }
+        let width = self.width;
+        let file = format!("{}_{i:0width$}.vtp", self.name);
+        let text = vtp_text(self.frames.piece(q))?;
+        write_atomic(&self.dir.join(&file), &text)?;
+        self.written.push((t, file));
+        Ok(())
+    }
+
+    /// Write the `.pvd` listing the step files written.
+    pub fn finish(self) -> crate::Result<VtkWritten> {
+        let pvd = self.dir.join(format!("{}.pvd", self.name));
+        write_atomic(&pvd, &pvd_text(&self.written)?)?;
+        Ok(VtkWritten {
+            pvd,
+            steps: self
+                .written
+                .into_iter()
+                .map(|(t, f)| (t, self.dir.join(f)))
+                .collect(),
+        })
+    }
+}
