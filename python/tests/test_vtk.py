@@ -15,7 +15,7 @@ import pytest
 
 from conftest import ROOT, SCENES
 
-vtk = pytest.importorskip("vtk")
+import vtk  # noqa: E402  (the `vtk` package of requirements-test.txt)
 from vtk.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 
@@ -189,3 +189,50 @@ def test_every_has_a_hard_bound(ffr_bin, tmp_path):
     assert r.returncode != 0
     assert "more than the limit of 10000" in r.stderr and "--every 3" in r.stderr
     assert not (tmp_path / "v").exists() or os.listdir(tmp_path / "v") == []
+
+
+FRAMES = 24  # frames per period (ffr::scene::vtk::FRAMES_PER_PERIOD)
+
+
+@pytest.mark.parametrize(
+    "args, length",
+    [
+        (["--shape", "beam2", "--elements", "4", "--count", "3"], 1.0),
+        (["--shape", "beam3", "--elements", "3", "--reference", "pinned", "--count", "2", "--length", "2.5"], 2.5),
+    ],
+)
+def test_mode_animations_are_phi_scaled_as_documented(ffr_bin, tmp_path, args, length):
+    out = tmp_path / "modes"
+    r = run_ffr(ffr_bin, "modes", *args, "--json", "--vtk", out)
+    assert r.returncode == 0, r.stderr
+    m = __import__("json").loads(r.stdout)
+    phi = np.array(m["phi"])
+    dofs = m["dofs"]
+    elements = int(args[args.index("--elements") + 1])
+    shape = args[args.index("--shape") + 1]
+    for j, omega in enumerate(m["omega"]):
+        # node translations of mode j from phi by the coordinates' labels
+        # (a coordinate the reference removes is zero)
+        t = np.zeros((elements + 1, 3))
+        for i in range(elements + 1):
+            for c, axis in enumerate("xyz"):
+                if f"u{axis}_{i}" in dofs:
+                    t[i, c] = phi[dofs.index(f"u{axis}_{i}"), j]
+        # documented amplitude: largest node displacement = 10 % of the length
+        scale = 0.1 * length / np.max(np.linalg.norm(t, axis=1))
+        times, files = read_pvd(out / f"{shape}_mode{j + 1:02}.pvd")
+        assert len(files) == FRAMES
+        period = 2 * math.pi / omega
+        assert np.allclose(times, [period * k / FRAMES for k in range(FRAMES)], rtol=1e-15, atol=0)
+        for k, f in enumerate(files):
+            pts, a, poly = read_vtp(out / f)
+            nodes = a["kind"] == 1
+            assert np.allclose(a["x"][nodes], np.linspace(0, length, elements + 1), rtol=1e-15, atol=1e-15)
+            want = scale * math.cos(2 * math.pi * k / FRAMES) * t
+            assert np.max(np.abs(a["displacement"][nodes] - want)) <= 1e-14 * length
+            # the points are the undeformed axis moved by the displacement
+            undeformed = np.column_stack([a["x"], np.zeros(len(a["x"])), np.zeros(len(a["x"]))])
+            assert np.max(np.abs(pts - undeformed - a["displacement"])) <= 1e-14 * length
+        # frame 0 is the crest: the largest node displacement is 10 % of L
+        _, a, _ = read_vtp(out / files[0])
+        assert abs(np.max(np.linalg.norm(a["displacement"][a["kind"] == 1], axis=1)) - 0.1 * length) <= 1e-14

@@ -113,24 +113,28 @@ pub struct DrawnBody {
     pub points: Vec<DrawnPoint>,
 }
 
-/// The nodes' `x` of a flexible body: the graded mesh's, or `elements + 1`
-/// equal spacings of `length`.
-fn node_xs(f: &super::FlexSpec) -> Vec<f64> {
+/// The nodes' `x` of a flexible body: the graded mesh's, or
+/// [`equal_nodes`].
+pub fn node_xs(f: &super::FlexSpec) -> Vec<f64> {
     match &f.nodes {
         Some(x) => x.clone(),
-        None => {
-            let n = f.elements.max(1);
-            (0..=n)
-                .map(|i| {
-                    if i == n {
-                        f.params.length
-                    } else {
-                        f.params.length * i as f64 / n as f64
-                    }
-                })
-                .collect()
-        }
+        None => equal_nodes(f.elements, f.params.length),
     }
+}
+
+/// The `elements + 1` nodes' `x` of equal elements over `length` (the last
+/// exactly `length`).
+pub fn equal_nodes(elements: usize, length: f64) -> Vec<f64> {
+    let n = elements.max(1);
+    (0..=n)
+        .map(|i| {
+            if i == n {
+                length
+            } else {
+                length * i as f64 / n as f64
+            }
+        })
+        .collect()
 }
 
 /// What a scene draws: its flexible bodies' axes (in body order), its rigid
@@ -229,18 +233,9 @@ impl Frames {
 
     /// The drawing at the coordinates `q`, as one PolyData piece.
     pub fn piece(&mut self, q: &[f64]) -> PolyDataPiece {
-        let n: usize = self.bodies.iter().map(|b| b.points.len()).sum();
-        let mut points: Vec<f64> = Vec::with_capacity(3 * n);
-        let mut disp = Vec::with_capacity(3 * n);
-        let mut rot = Vec::with_capacity(3 * n);
-        let mut axes: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(3 * n));
-        let mut xs = Vec::with_capacity(n);
-        let mut body = Vec::with_capacity(n);
-        let mut kind = Vec::with_capacity(n);
-        let (mut lines_conn, mut lines_off) = (Vec::new(), Vec::new());
-        let (mut verts_conn, mut verts_off) = (Vec::new(), Vec::new());
+        let mut out = Piece::default();
         for (b, kins) in self.bodies.iter().zip(&mut self.kins) {
-            let first = (points.len() / 3) as u64;
+            let first = out.len();
             for (p, (k, k0)) in b.points.iter().zip(kins.iter_mut()) {
                 k.eval(&p.marker, q);
                 k0.eval(&p.frame, q);
@@ -253,34 +248,92 @@ impl Frames {
                     psi += Vector3::from(*r) * qj;
                 }
                 let global = |v: Vector3<f64>| a[0] * v.x + a[1] * v.y + a[2] * v.z;
-                points.extend(k.pos.iter());
-                disp.extend(global(d).iter());
-                rot.extend(global(psi).iter());
-                for c in 0..3 {
-                    axes[c].extend(k.axes[c].iter());
-                }
-                xs.push(p.x);
-                body.push(b.body.map_or(-1, |id| id.0 as i32));
-                kind.push(match b.kind {
-                    Drawn::Axis | Drawn::Nodes => i32::from(p.node),
-                    Drawn::Frame => 2,
-                    Drawn::Joint => 3,
+                out.push(PointValues {
+                    pos: k.pos,
+                    displacement: global(d),
+                    rotation: global(psi),
+                    axes: k.axes,
+                    x: p.x,
+                    body: b.body.map_or(-1, |id| id.0 as i32),
+                    kind: kind_code(b.kind, p.node),
                 });
             }
-            let last = (points.len() / 3) as u64;
-            match b.kind {
-                Drawn::Axis => {
-                    lines_conn.extend(first..last);
-                    lines_off.push(lines_conn.len() as u64);
-                }
-                Drawn::Nodes | Drawn::Frame | Drawn::Joint => {
-                    for i in first..last {
-                        verts_conn.push(i);
-                        verts_off.push(verts_conn.len() as u64);
-                    }
+            out.cell(b.kind, first);
+        }
+        out.finish()
+    }
+}
+
+/// The `kind` point value: 0 a point between nodes, 1 a node, 2 a rigid
+/// body's frame, 3 a joint.
+fn kind_code(kind: Drawn, node: bool) -> i32 {
+    match kind {
+        Drawn::Axis | Drawn::Nodes => i32::from(node),
+        Drawn::Frame => 2,
+        Drawn::Joint => 3,
+    }
+}
+
+/// One point's values (global axes).
+struct PointValues {
+    pos: Vector3<f64>,
+    displacement: Vector3<f64>,
+    rotation: Vector3<f64>,
+    axes: [Vector3<f64>; 3],
+    x: f64,
+    body: i32,
+    kind: i32,
+}
+
+/// A PolyData piece being assembled: point values, then each body's cell.
+#[derive(Default)]
+struct Piece {
+    points: Vec<f64>,
+    disp: Vec<f64>,
+    rot: Vec<f64>,
+    axes: [Vec<f64>; 3],
+    xs: Vec<f64>,
+    body: Vec<i32>,
+    kind: Vec<i32>,
+    lines: (Vec<u64>, Vec<u64>),
+    verts: (Vec<u64>, Vec<u64>),
+}
+
+impl Piece {
+    fn len(&self) -> u64 {
+        self.xs.len() as u64
+    }
+
+    fn push(&mut self, p: PointValues) {
+        self.points.extend(p.pos.iter());
+        self.disp.extend(p.displacement.iter());
+        self.rot.extend(p.rotation.iter());
+        for c in 0..3 {
+            self.axes[c].extend(p.axes[c].iter());
+        }
+        self.xs.push(p.x);
+        self.body.push(p.body);
+        self.kind.push(p.kind);
+    }
+
+    /// The points from `first` on as one body drawn as `kind`.
+    fn cell(&mut self, kind: Drawn, first: u64) {
+        let last = self.len();
+        match kind {
+            Drawn::Axis => {
+                self.lines.0.extend(first..last);
+                self.lines.1.push(self.lines.0.len() as u64);
+            }
+            Drawn::Nodes | Drawn::Frame | Drawn::Joint => {
+                for i in first..last {
+                    self.verts.0.push(i);
+                    self.verts.1.push(self.verts.0.len() as u64);
                 }
             }
         }
+    }
+
+    fn finish(self) -> PolyDataPiece {
         let vectors = |name: &str, v: Vec<f64>| {
             Attribute::DataArray(DataArray {
                 name: name.into(),
@@ -298,29 +351,29 @@ impl Frames {
                 data,
             })
         };
-        let [ax, ay, az] = axes;
-        let cells = |conn: Vec<u64>, off: Vec<u64>| {
+        let [ax, ay, az] = self.axes;
+        let cells = |(conn, off): (Vec<u64>, Vec<u64>)| {
             (!off.is_empty()).then_some(VertexNumbers::XML {
                 connectivity: conn,
                 offsets: off,
             })
         };
         PolyDataPiece {
-            points: points.into(),
-            verts: cells(verts_conn, verts_off),
-            lines: cells(lines_conn, lines_off),
+            points: self.points.into(),
+            verts: cells(self.verts),
+            lines: cells(self.lines),
             polys: None,
             strips: None,
             data: Attributes {
                 point: vec![
-                    vectors("displacement", disp),
-                    vectors("rotation", rot),
+                    vectors("displacement", self.disp),
+                    vectors("rotation", self.rot),
                     vectors("axis_x", ax),
                     vectors("axis_y", ay),
                     vectors("axis_z", az),
-                    scalars("x", xs.into()),
-                    scalars("body", body.into()),
-                    scalars("kind", kind.into()),
+                    scalars("x", self.xs.into()),
+                    scalars("body", self.body.into()),
+                    scalars("kind", self.kind.into()),
                 ],
                 cell: Vec::new(),
             },
@@ -596,4 +649,146 @@ impl VtkSeries {
                 .collect(),
         })
     }
+}
+
+/// Frames of a mode-shape animation: one period at equal phase steps
+/// (the frame after the last is the first again).
+pub const FRAMES_PER_PERIOD: usize = 24;
+
+/// A mode shape's amplitude in its animation: the largest node
+/// displacement is this fraction of the body's length (a mode that moves no
+/// node, only rotates sections: the largest section rotation is this many
+/// radians).
+pub const MODE_AMPLITUDE: f64 = 0.1;
+
+/// One mode to animate: its label, its angular frequency (rad/s; `None`
+/// for a static constraint mode: the times are then fractions of one
+/// period) and its shape (one value per elastic coordinate).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModeShape {
+    /// The label (`ffr modes --json`'s `labels`).
+    pub label: String,
+    /// `ω` (rad/s).
+    pub omega: Option<f64>,
+    /// `φ` (n_f values, the body's elastic coordinates).
+    pub phi: Vec<f64>,
+}
+
+/// The scale `a` of a mode in its animation (frame `k` shows
+/// `q_f = a cos(2π k / FRAMES_PER_PERIOD) φ`): [`MODE_AMPLITUDE`] × `length`
+/// over the largest node displacement of `φ` (body axes), or
+/// [`MODE_AMPLITUDE`] over the largest section rotation if no node moves.
+pub fn mode_scale(body: &dyn Body, nodes: &[f64], length: f64, phi: &[f64]) -> crate::Result<f64> {
+    let (mut umax, mut rmax) = (0.0f64, 0.0f64);
+    for &x in nodes {
+        let (u, r) = shape_at(body, x, phi)?;
+        umax = umax.max(u.norm());
+        rmax = rmax.max(r.norm());
+    }
+    if umax > 0.0 {
+        Ok(MODE_AMPLITUDE * length / umax)
+    } else if rmax > 0.0 {
+        Ok(MODE_AMPLITUDE / rmax)
+    } else {
+        Err(crate::Error::Invalid(
+            "a mode that moves no node: nothing to animate".into(),
+        ))
+    }
+}
+
+/// `(Σ s_j φ_j, Σ ψ_j φ_j)` at `x` (body axes).
+fn shape_at(body: &dyn Body, x: f64, phi: &[f64]) -> crate::Result<(Vector3<f64>, Vector3<f64>)> {
+    let s = body.point_shape(x)?;
+    let (mut u, mut r) = (Vector3::zeros(), Vector3::zeros());
+    for (dof, sj, pj) in &s.entries {
+        let v = phi.get(*dof).copied().ok_or_else(|| {
+            crate::Error::Invalid(format!(
+                "the mode has {} values, the body's coordinate {dof} has none",
+                phi.len()
+            ))
+        })?;
+        u += Vector3::from(*sj) * v;
+        r += Vector3::from(*pj) * v;
+    }
+    Ok((u, r))
+}
+
+/// Write one animation per mode of a beam body (drawn in its own frame:
+/// origin at 0, body axes as global axes): `DIR/<name>_mode<j>.pvd` and
+/// `DIR/<name>_mode<j>_<k>.vtp`, `j` from 1, `k` from 0 to
+/// [`FRAMES_PER_PERIOD`] − 1 at times `k T / FRAMES_PER_PERIOD`, `T = 2π/ω`.
+/// The axis is drawn as in a run (nodes at `nodes`,
+/// [`POINTS_BETWEEN_NODES`] points between), scaled by [`mode_scale`]. Every
+/// file is checked ([`check_ours`]) before any is written.
+pub fn write_modes(
+    dir: &Path,
+    name: &str,
+    body: &dyn Body,
+    nodes: &[f64],
+    length: f64,
+    modes: &[ModeShape],
+) -> crate::Result<Vec<VtkWritten>> {
+    let name = series_name(name);
+    let jw = modes.len().to_string().len().max(2);
+    let kw = (FRAMES_PER_PERIOD - 1).to_string().len();
+    let stem = |j: usize| format!("{name}_mode{:0jw$}", j + 1);
+    prepare_dir(dir)?;
+    for j in 0..modes.len() {
+        check_ours(&dir.join(format!("{}.pvd", stem(j))))?;
+        for k in 0..FRAMES_PER_PERIOD {
+            check_ours(&dir.join(format!("{}_{k:0kw$}.vtp", stem(j))))?;
+        }
+    }
+    // The axis points: nodes and points between, as in a run.
+    let mut xs = Vec::new();
+    for (i, &x) in nodes.iter().enumerate() {
+        xs.push((x, true));
+        if let Some(&next) = nodes.get(i + 1) {
+            let m = POINTS_BETWEEN_NODES + 1;
+            xs.extend((1..m).map(|k| (x + (next - x) * k as f64 / m as f64, false)));
+        }
+    }
+    let scales = modes
+        .iter()
+        .map(|m| mode_scale(body, nodes, length, &m.phi))
+        .collect::<crate::Result<Vec<f64>>>()?;
+    let mut written = Vec::with_capacity(modes.len());
+    for ((j, mode), scale) in modes.iter().enumerate().zip(scales) {
+        let period = mode
+            .omega
+            .filter(|w| *w > 0.0 && w.is_finite())
+            .map_or(1.0, |w| std::f64::consts::TAU / w);
+        let mut steps = Vec::with_capacity(FRAMES_PER_PERIOD);
+        for k in 0..FRAMES_PER_PERIOD {
+            let phase = std::f64::consts::TAU * k as f64 / FRAMES_PER_PERIOD as f64;
+            let a = scale * phase.cos();
+            let mut piece = Piece::default();
+            for &(x, node) in &xs {
+                let u0 = Vector3::from(body.point_shape(x)?.u0);
+                let (u, r) = shape_at(body, x, &mode.phi)?;
+                let (u, r) = (u * a, r * a);
+                let e = [Vector3::x(), Vector3::y(), Vector3::z()];
+                piece.push(PointValues {
+                    pos: u0 + u,
+                    displacement: u,
+                    rotation: r,
+                    axes: e.map(|c| c + r.cross(&c)),
+                    x,
+                    body: 0,
+                    kind: i32::from(node),
+                });
+            }
+            piece.cell(Drawn::Axis, 0);
+            let file = format!("{}_{k:0kw$}.vtp", stem(j));
+            write_atomic(&dir.join(&file), &vtp_text(piece.finish())?)?;
+            steps.push((period * k as f64 / FRAMES_PER_PERIOD as f64, file));
+        }
+        let pvd = dir.join(format!("{}.pvd", stem(j)));
+        write_atomic(&pvd, &pvd_text(&steps)?)?;
+        written.push(VtkWritten {
+            pvd,
+            steps: steps.into_iter().map(|(t, f)| (t, dir.join(f))).collect(),
+        });
+    }
+    Ok(written)
 }

@@ -78,6 +78,11 @@ pub enum Command {
         /// frequencies in rad/s and Hz).
         #[arg(long)]
         json: bool,
+        /// Write each mode as a ParaView animation over one period into DIR
+        /// (DIR/NAME_modeJ.pvd; largest node displacement 10 % of the body's
+        /// length; see docs/vtk.md).
+        #[arg(long, value_name = "DIR")]
+        vtk: Option<PathBuf>,
     },
     /// Write a body reduced to its lowest modes in a format other engines
     /// read (MBDyn modal .fem, SID); see docs/export.md.
@@ -284,7 +289,16 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             count,
             boundary,
             json,
-        }) => modes(&body, &params, &from_scene, count, &boundary, json),
+            vtk,
+        }) => modes(
+            &body,
+            &params,
+            &from_scene,
+            count,
+            &boundary,
+            json,
+            vtk.as_deref(),
+        ),
         Some(Command::Export {
             format,
             body,
