@@ -150,6 +150,11 @@ pub enum Command {
         #[arg(long, value_name = "K", requires = "vtk", default_value_t = 1,
               value_parser = clap::value_parser!(u64).range(1..))]
         every: u64,
+        /// A reference history (CSV: `t,NAME,…`): its columns named like
+        /// the scene's outputs are drawn over them in the plot, and the
+        /// largest difference of each is printed.
+        #[arg(long, value_name = "FILE.csv")]
+        reference: Option<PathBuf>,
     },
     /// Print the generated Rust: element kernels of a shape, a body with a
     /// fixed mesh (`--elements`), or every flexible body of a scene (`--scene`).
@@ -320,12 +325,13 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             general,
             vtk,
             every,
+            reference,
         }) => {
             let vtk = vtk.map(|dir| ffr::scene::vtk::VtkOptions {
                 dir,
                 every: usize::try_from(every).unwrap_or(usize::MAX),
             });
-            run_scene(&scene, &csv, &svg, general, vtk).map(|_| ())
+            run_scene(&scene, &csv, &svg, general, vtk, reference.as_deref()).map(|_| ())
         }
         None => spin_up(&SpinUpArgs::default()).map(|_| ()),
     }
