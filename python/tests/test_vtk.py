@@ -236,3 +236,38 @@ def test_mode_animations_are_phi_scaled_as_documented(ffr_bin, tmp_path, args, l
         # frame 0 is the crest: the largest node displacement is 10 % of L
         _, a, _ = read_vtp(out / files[0])
         assert abs(np.max(np.linalg.norm(a["displacement"][a["kind"] == 1], axis=1)) - 0.1 * length) <= 1e-14
+
+
+def test_campbell_animations_at_rest_are_the_modes(ffr_bin, tmp_path):
+    """At Ω = 0 the spin-up beam's Campbell modes are its clamped modes: in
+    every frame the nodes' displacement is a multiple of the node
+    translations of `phi` (ffr modes --json), at the period 2π/ω of that
+    mode; the largest over the period is 10 % of the 8 m length up to the
+    24-frame sampling of the phase (cos(π/24))."""
+    m = __import__("json").loads(
+        run_ffr(ffr_bin, "modes", "--scene", SCENES / "spin_up.toml", "--body", "beam", "--count", "2", "--json").stdout
+    )
+    out = tmp_path / "campbell"
+    r = run_ffr(ffr_bin, "campbell", SCENES / "spin_up.toml", "--speeds", "0,4", "--count", "2", "--vtk", out)
+    assert r.returncode == 0, r.stderr
+    dofs, phi, length = m["dofs"], np.array(m["phi"]), 8.0
+    for j in range(2):
+        t = np.zeros((9, 3))
+        for i in range(9):
+            for c, axis in enumerate("xy"):
+                if f"u{axis}_{i}" in dofs:
+                    t[i, c] = phi[dofs.index(f"u{axis}_{i}"), j]
+        t = t.ravel() / np.linalg.norm(t)
+        times, files = read_pvd(out / f"spin_up_speed01_mode{j + 1:02}.pvd")
+        assert len(files) == FRAMES
+        assert np.allclose(times, [2 * math.pi / m["omega"][j] * k / FRAMES for k in range(FRAMES)], rtol=1e-6)
+        peak = 0.0
+        for f in files:
+            _, a, _ = read_vtp(out / f)
+            d = a["displacement"][a["kind"] == 1].ravel()
+            # d is c t for some c: what is left after removing t is round-off
+            # of the inverse iteration's eigenvector
+            assert np.linalg.norm(d - (d @ t) * t) <= 1e-6 * length
+            peak = max(peak, np.max(np.linalg.norm(a["displacement"][a["kind"] == 1], axis=1)))
+        assert 0.1 * length * math.cos(math.pi / FRAMES) * (1 - 1e-9) <= peak <= 0.1 * length * (1 + 1e-9)
+    assert (out / "spin_up_speed02_mode02.pvd").exists()

@@ -31,7 +31,7 @@
 
 use super::model::Scene;
 use crate::runtime::marker::{BodyId, Marker, MarkerKin};
-use crate::runtime::nalgebra::Vector3;
+use crate::runtime::nalgebra::{Complex, Vector3};
 use crate::runtime::{Body, System};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -229,6 +229,25 @@ impl Frames {
     /// The bodies drawn.
     pub fn bodies(&self) -> &[DrawnBody] {
         &self.bodies
+    }
+
+    /// The largest elastic displacement at a node of the complex motion `v`
+    /// (one value per system coordinate): `max √(|u(Re v)|² + |u(Im v)|²)`
+    /// over the drawn nodes, `u` the node's elastic displacement (body axes).
+    pub fn elastic_amplitude(&self, v: &[Complex<f64>]) -> f64 {
+        let mut m = 0.0f64;
+        for (b, kins) in self.bodies.iter().zip(&self.kins) {
+            for (p, (k, _)) in b.points.iter().zip(kins).filter(|(p, _)| p.node) {
+                let (mut re, mut im) = (Vector3::zeros(), Vector3::zeros());
+                for (j, (_, s, _)) in p.marker.shape.entries.iter().enumerate() {
+                    let vj = v[k.idx[k.n_frame + j]];
+                    re += Vector3::from(*s) * vj.re;
+                    im += Vector3::from(*s) * vj.im;
+                }
+                m = m.max((re.norm_squared() + im.norm_squared()).sqrt());
+            }
+        }
+        m
     }
 
     /// The drawing at the coordinates `q`, as one PolyData piece.
@@ -713,6 +732,45 @@ fn shape_at(body: &dyn Body, x: f64, phi: &[f64]) -> crate::Result<(Vector3<f64>
     Ok((u, r))
 }
 
+/// The file names of `count` mode animations named `name`: the `.pvd` stem
+/// of mode `j` (0-based; `<name>_mode<j+1>`, at least two digits) and the
+/// name of its frame `k` (`<stem>_<k>.vtp`, two digits).
+#[allow(clippy::type_complexity)]
+pub fn mode_names(
+    name: &str,
+    count: usize,
+) -> (
+    impl Fn(usize) -> String + '_,
+    impl Fn(usize, usize) -> String + '_,
+) {
+    let jw = count.to_string().len().max(2);
+    let kw = (FRAMES_PER_PERIOD - 1).to_string().len();
+    let stem = move |j: usize| format!("{name}_mode{:0jw$}", j + 1);
+    let frame = move |j: usize, k: usize| format!("{name}_mode{:0jw$}_{k:0kw$}.vtp", j + 1);
+    (stem, frame)
+}
+
+/// Check `dir` and every file of `count` mode animations named `name`
+/// ([`check_ours`]), and create `dir`; at most [`MAX_VTK_FILES`] files.
+pub fn check_mode_files(dir: &Path, name: &str, count: usize) -> crate::Result<()> {
+    let files = count.saturating_mul(FRAMES_PER_PERIOD + 1);
+    if files > MAX_VTK_FILES {
+        return Err(crate::Error::Invalid(format!(
+            "{count} mode animations of {} files each: {files} VTK files, more than the limit of {MAX_VTK_FILES}",
+            FRAMES_PER_PERIOD + 1
+        )));
+    }
+    let (stem, frame) = mode_names(name, count);
+    prepare_dir(dir)?;
+    for j in 0..count {
+        check_ours(&dir.join(format!("{}.pvd", stem(j))))?;
+        for k in 0..FRAMES_PER_PERIOD {
+            check_ours(&dir.join(frame(j, k)))?;
+        }
+    }
+    Ok(())
+}
+
 /// Write one animation per mode of a beam body (drawn in its own frame:
 /// origin at 0, body axes as global axes): `DIR/<name>_mode<j>.pvd` and
 /// `DIR/<name>_mode<j>_<k>.vtp`, `j` from 1, `k` from 0 to
@@ -729,16 +787,8 @@ pub fn write_modes(
     modes: &[ModeShape],
 ) -> crate::Result<Vec<VtkWritten>> {
     let name = series_name(name);
-    let jw = modes.len().to_string().len().max(2);
-    let kw = (FRAMES_PER_PERIOD - 1).to_string().len();
-    let stem = |j: usize| format!("{name}_mode{:0jw$}", j + 1);
-    prepare_dir(dir)?;
-    for j in 0..modes.len() {
-        check_ours(&dir.join(format!("{}.pvd", stem(j))))?;
-        for k in 0..FRAMES_PER_PERIOD {
-            check_ours(&dir.join(format!("{}_{k:0kw$}.vtp", stem(j))))?;
-        }
-    }
+    let (stem, frame_file) = mode_names(&name, modes.len());
+    check_mode_files(dir, &name, modes.len())?;
     // The axis points: nodes and points between, as in a run.
     let mut xs = Vec::new();
     for (i, &x) in nodes.iter().enumerate() {
@@ -779,8 +829,80 @@ pub fn write_modes(
                 });
             }
             piece.cell(Drawn::Axis, 0);
-            let file = format!("{}_{k:0kw$}.vtp", stem(j));
+            let file = frame_file(j, k);
             write_atomic(&dir.join(&file), &vtp_text(piece.finish())?)?;
+            steps.push((period * k as f64 / FRAMES_PER_PERIOD as f64, file));
+        }
+        let pvd = dir.join(format!("{}.pvd", stem(j)));
+        write_atomic(&pvd, &pvd_text(&steps)?)?;
+        written.push(VtkWritten {
+            pvd,
+            steps: steps.into_iter().map(|(t, f)| (t, dir.join(f))).collect(),
+        });
+    }
+    Ok(written)
+}
+
+/// Write one animation per mode of a linearized scene (a Campbell
+/// diagram's speed): the scene drawn as in a run at `q0 + a Re(e^{iφ} v)`,
+/// `φ = 2π k / FRAMES_PER_PERIOD`, `v` the mode's vector, at times
+/// `k T / FRAMES_PER_PERIOD`, `T = 2π/ω` (1 if `ω` = 0): files
+/// `DIR/<name>_mode<j>.pvd` and `DIR/<name>_mode<j>_<k>.vtp`. The scale `a`:
+/// the largest elastic displacement of a node (see
+/// [`Frames::elastic_amplitude`]) is [`MODE_AMPLITUDE`] × the longest
+/// flexible body's length; a mode without elastic motion: its largest
+/// coordinate is [`MODE_AMPLITUDE`] × that length (m, or rad for angles).
+/// Every file is checked ([`check_ours`]) before any is written.
+pub fn write_linear_modes(
+    dir: &Path,
+    name: &str,
+    scene: &Scene,
+    q0: &[f64],
+    modes: &[(f64, &[(usize, Complex<f64>)])],
+) -> crate::Result<Vec<VtkWritten>> {
+    let name = series_name(name);
+    let (stem, frame_file) = mode_names(&name, modes.len());
+    check_mode_files(dir, &name, modes.len())?;
+    let length = scene
+        .flex
+        .iter()
+        .map(|f| f.params.length)
+        .fold(0.0f64, f64::max);
+    let length = if length > 0.0 { length } else { 1.0 };
+    let mut frames = Frames::new(&scene.system, drawing(scene)?);
+    let n = q0.len();
+    let mut written = Vec::with_capacity(modes.len());
+    for (j, (omega, vector)) in modes.iter().enumerate() {
+        let mut v = vec![Complex::new(0.0, 0.0); n];
+        for &(g, x) in vector.iter() {
+            if g < n {
+                v[g] = x;
+            }
+        }
+        let m = frames.elastic_amplitude(&v);
+        let biggest = v.iter().map(|x| x.norm()).fold(0.0f64, f64::max);
+        let a = if m > 0.0 {
+            MODE_AMPLITUDE * length / m
+        } else if biggest > 0.0 {
+            MODE_AMPLITUDE * length / biggest
+        } else {
+            0.0
+        };
+        let period = if *omega > 0.0 && omega.is_finite() {
+            std::f64::consts::TAU / omega
+        } else {
+            1.0
+        };
+        let mut steps = Vec::with_capacity(FRAMES_PER_PERIOD);
+        let mut q = q0.to_vec();
+        for k in 0..FRAMES_PER_PERIOD {
+            let phase = std::f64::consts::TAU * k as f64 / FRAMES_PER_PERIOD as f64;
+            let e = Complex::new(phase.cos(), phase.sin());
+            for (i, x) in v.iter().enumerate() {
+                q[i] = q0[i] + a * (e * x).re;
+            }
+            let file = frame_file(j, k);
+            write_atomic(&dir.join(&file), &vtp_text(frames.piece(&q))?)?;
             steps.push((period * k as f64 / FRAMES_PER_PERIOD as f64, file));
         }
         let pvd = dir.join(format!("{}.pvd", stem(j)));
