@@ -456,6 +456,11 @@ pub fn campbell(
     })
 }
 
+/// What [`campbell_with`] calls at each speed: its index, the scene built
+/// at that speed, the steady state, the modes.
+pub type EachSpeed<'a> =
+    dyn FnMut(usize, &super::Scene, &State, &[CampbellMode]) -> crate::Result<()> + 'a;
+
 /// [`campbell`], calling `each(i, scene, steady state, modes)` for the
 /// `i`-th speed (0-based) after its modes are found (e.g. to write their
 /// animations, [`super::vtk::write_linear_modes`]).
@@ -465,7 +470,7 @@ pub fn campbell_with(
     speeds: &[f64],
     joint: Option<usize>,
     count: usize,
-    each: &mut dyn FnMut(usize, &super::Scene, &State, &[CampbellMode]) -> crate::Result<()>,
+    each: &mut EachSpeed<'_>,
 ) -> crate::Result<Campbell> {
     let driven = |j: &crate::runtime::spec::scene::JointSpec| {
         j.kind == JointKind::Revolute && j.drive.is_some()

@@ -843,6 +843,10 @@ pub fn write_modes(
     Ok(written)
 }
 
+/// A mode's vector in a system's coordinates: `(index, value)` pairs
+/// ([`super::linear::CampbellMode::vector`]).
+pub type ModeVector = [(usize, Complex<f64>)];
+
 /// Write one animation per mode of a linearized scene (a Campbell
 /// diagram's speed): the scene drawn as in a run at `q0 + a Re(e^{iφ} v)`,
 /// `φ = 2π k / FRAMES_PER_PERIOD`, `v` the mode's vector, at times
@@ -858,7 +862,7 @@ pub fn write_linear_modes(
     name: &str,
     scene: &Scene,
     q0: &[f64],
-    modes: &[(f64, &[(usize, Complex<f64>)])],
+    modes: &[(f64, &ModeVector)],
 ) -> crate::Result<Vec<VtkWritten>> {
     let name = series_name(name);
     let (stem, frame_file) = mode_names(&name, modes.len());

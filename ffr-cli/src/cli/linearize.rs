@@ -321,7 +321,7 @@ pub fn campbell(args: &CampbellArgs) -> Result<Campbell, Box<dyn Error>> {
                      modes: &[ffr::scene::linear::CampbellMode]|
      -> ffr::Result<()> {
         if let Some(dir) = &args.vtk {
-            let m: Vec<(f64, &[(usize, ffr::runtime::nalgebra::Complex<f64>)])> = modes
+            let m: Vec<(f64, &ffr::scene::vtk::ModeVector)> = modes
                 .iter()
                 .map(|m| (m.omega, m.vector.as_slice()))
                 .collect();
