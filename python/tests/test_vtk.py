@@ -277,3 +277,27 @@ def test_campbell_animations_at_rest_are_the_modes(ffr_bin, tmp_path):
             peak = max(peak, np.max(np.linalg.norm(a["displacement"][a["kind"] == 1], axis=1)))
         assert 0.1 * length * math.cos(math.pi / FRAMES) * (1 - 1e-9) <= peak <= 0.1 * length * (1 + 1e-9)
     assert (out / "spin_up_speed02_mode02.pvd").exists()
+
+
+def test_python_run_writes_the_command_lines_series(ffr_bin, tmp_path):
+    """`Scene.run(vtk=DIR, every=K)` writes the bytes of `ffr run --vtk DIR
+    --every K`; `every` without `vtk`, or 0, is a ValueError."""
+    import ffr
+
+    path = SCENES / "spin_up.toml"
+    cli_dir, py_dir = tmp_path / "cli", tmp_path / "py"
+    r = run_ffr(ffr_bin, "run", path, "--csv", tmp_path / "o.csv", "--vtk", cli_dir, "--every", 250)
+    assert r.returncode == 0, r.stderr
+    res = ffr.Scene.load(path).run(vtk=py_dir, every=250)
+    assert len(res.t) == 2001
+    names = sorted(os.listdir(cli_dir))
+    assert names == sorted(os.listdir(py_dir)) and len(names) == 1 + math.ceil(2001 / 250)
+    for n in names:
+        assert (cli_dir / n).read_bytes() == (py_dir / n).read_bytes(), n
+    with pytest.raises(ValueError, match="goes with vtk"):
+        ffr.Scene.load(path).run(every=3)
+    with pytest.raises(ValueError, match="every = 0"):
+        ffr.Scene.load(path).run(vtk=py_dir, every=0)
+    (py_dir / "spin_up_0000.vtp").write_text("mine")
+    with pytest.raises(ffr.FfrError, match="was not written by ffr"):
+        ffr.Scene.load(path).run(vtk=py_dir, every=250)

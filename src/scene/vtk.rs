@@ -137,6 +137,21 @@ pub fn equal_nodes(elements: usize, length: f64) -> Vec<f64> {
         .collect()
 }
 
+/// The points drawn on an axis with these nodes: `(x, is a node)`, each
+/// node followed by [`POINTS_BETWEEN_NODES`] points at equal steps to the
+/// next.
+pub fn axis_points(nodes: &[f64]) -> Vec<(f64, bool)> {
+    let m = POINTS_BETWEEN_NODES + 1;
+    let mut xs = Vec::with_capacity(nodes.len() * m);
+    for (j, &x) in nodes.iter().enumerate() {
+        xs.push((x, true));
+        if let Some(&next) = nodes.get(j + 1) {
+            xs.extend((1..m).map(|k| (x + (next - x) * k as f64 / m as f64, false)));
+        }
+    }
+    xs
+}
+
 /// What a scene draws: its flexible bodies' axes (in body order), its rigid
 /// bodies' frames, its joints.
 pub fn drawing(scene: &Scene) -> crate::Result<Vec<DrawnBody>> {
@@ -146,24 +161,16 @@ pub fn drawing(scene: &Scene) -> crate::Result<Vec<DrawnBody>> {
         let id = BodyId(i);
         let rigid = |u0: Vector3<f64>| Marker::at(id, u0);
         if let Some(f) = scene.flex.iter().find(|f| f.name == e.name) {
-            let nodes = node_xs(f);
             let mut points = Vec::new();
-            for (j, &x) in nodes.iter().enumerate() {
-                let mut xs = vec![(x, true)];
-                if let Some(&next) = nodes.get(j + 1) {
-                    let m = POINTS_BETWEEN_NODES + 1;
-                    xs.extend((1..m).map(|k| (x + (next - x) * k as f64 / m as f64, false)));
-                }
-                for (x, node) in xs {
-                    let marker = sys.point(id, x)?;
-                    let frame = rigid(Vector3::from(marker.shape.u0));
-                    points.push(DrawnPoint {
-                        marker,
-                        frame,
-                        x,
-                        node,
-                    });
-                }
+            for (x, node) in axis_points(&node_xs(f)) {
+                let marker = sys.point(id, x)?;
+                let frame = rigid(Vector3::from(marker.shape.u0));
+                points.push(DrawnPoint {
+                    marker,
+                    frame,
+                    x,
+                    node,
+                });
             }
             out.push(DrawnBody {
                 name: e.name.clone(),
@@ -789,15 +796,7 @@ pub fn write_modes(
     let name = series_name(name);
     let (stem, frame_file) = mode_names(&name, modes.len());
     check_mode_files(dir, &name, modes.len())?;
-    // The axis points: nodes and points between, as in a run.
-    let mut xs = Vec::new();
-    for (i, &x) in nodes.iter().enumerate() {
-        xs.push((x, true));
-        if let Some(&next) = nodes.get(i + 1) {
-            let m = POINTS_BETWEEN_NODES + 1;
-            xs.extend((1..m).map(|k| (x + (next - x) * k as f64 / m as f64, false)));
-        }
-    }
+    let xs = axis_points(nodes);
     let scales = modes
         .iter()
         .map(|m| mode_scale(body, nodes, length, &m.phi))
