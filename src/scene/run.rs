@@ -51,7 +51,8 @@ pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
 /// [`run`] with `options`: with `vtk`, the time series is checked before
 /// the run (nothing is run if it cannot be written) and written during it;
 /// its `.pvd` lists the samples written, also of a run that stopped early
-/// ([`SceneRun::failed`]).
+/// ([`SceneRun::failed`]). A sample to write whose coordinates are not all
+/// finite stops the run with an error (the `.pvd` lists the files before it).
 pub fn run_with(scene: &Scene, options: &RunOptions) -> crate::Result<SceneRun> {
     #[cfg(feature = "vtk")]
     if let Some(v) = &options.vtk {
@@ -66,6 +67,9 @@ pub fn run_with(scene: &Scene, options: &RunOptions) -> crate::Result<SceneRun> 
             }
         })?;
         if let Some(e) = failure {
+            // The .pvd of the files written before (best effort: the
+            // error reported is the one that stopped the series).
+            let _ = series.finish();
             return Err(e);
         }
         series.finish()?;

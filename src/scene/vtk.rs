@@ -649,6 +649,13 @@ impl VtkSeries {
         if i % self.every != 0 {
             return Ok(());
         }
+        if let Some(j) = q.iter().position(|x| !x.is_finite()) {
+            return Err(crate::Error::Invalid(format!(
+                "coordinate {j} is {} at t = {t} s, not a finite number: the VTK series stops before it ({} files written)",
+                q[j],
+                self.written.len()
+            )));
+        }
         if self.written.len() >= MAX_VTK_FILES {
             return Err(crate::Error::Invalid(format!(
                 "more than {MAX_VTK_FILES} VTK files: not written"
