@@ -113,3 +113,24 @@ fn a_reference_without_a_matching_column_or_with_a_bad_row_is_refused() {
         "{err}"
     );
 }
+
+#[test]
+fn the_plot_names_the_units_of_mixed_outputs() {
+    // pendulum.toml records an angle, positions and deflections, energies.
+    let dir = temp_dir("units");
+    let svg = dir.join("p.svg");
+    let (ok, _, err) = ffr(&[
+        "run",
+        &scene("pendulum.toml"),
+        "--csv",
+        s(&dir.join("p.csv")),
+        "--svg",
+        s(&svg),
+    ]);
+    assert!(ok, "{err}");
+    let plot = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        plot.contains("outputs (rad, m, J)"),
+        "y axis with the units"
+    );
+}
