@@ -182,6 +182,22 @@ impl Reference {
         (scale > 0.0).then(|| (diff / scale, diff))
     }
 
+    /// `max_k |y(t_k) − y_ref(t_k)|` over the run's sample times `t_k` inside
+    /// the reference's time span (the reference interpolated linearly), and
+    /// the number of samples compared; `None` if no sample is inside or the
+    /// column is not there.
+    pub fn max_abs_difference(&self, column: &str, t: &[f64], y: &[f64]) -> Option<(f64, usize)> {
+        let r = self.column(column)?;
+        let (mut diff, mut n) = (0.0f64, 0);
+        for (&tk, &yk) in t.iter().zip(y) {
+            if let Some(yr) = interpolate(&self.t, r, tk) {
+                diff = diff.max((yk - yr).abs());
+                n += 1;
+            }
+        }
+        (n > 0).then_some((diff, n))
+    }
+
     /// The most negative value of a column and its time.
     pub fn min(&self, column: &str) -> Option<(f64, f64)> {
         let r = self.column(column)?;

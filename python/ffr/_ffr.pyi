@@ -58,9 +58,12 @@ class Scene:
     @property
     def overrides(self) -> List[Tuple[str, SceneValue]]:
         """The keys set so far and their values, in order."""
-    def run(self) -> "RunResult":
+    def run(
+        self, vtk: Optional[Union[str, "os.PathLike[str]"]] = None, every: int = 1
+    ) -> "RunResult":
         """Run the scene with the GIL released; raises SimulationError if
-        the run stops early."""
+        the run stops early. ``vtk=DIR`` also writes the ParaView time
+        series of ``ffr run --vtk DIR --every EVERY`` (docs/vtk.md)."""
 
 class RunResult:
     """A scene run: each output by name as a numpy array, the times ``t``,

@@ -266,12 +266,26 @@ impl Scene {
 
     /// Run the scene (the GIL released), recording every output at every
     /// step. A run that stops early raises `SimulationError` with the
-    /// command line's message.
-    fn run(&self, py: Python<'_>) -> PyResult<RunResult> {
+    /// command line's message. `vtk = DIR` also writes the ParaView time
+    /// series of `ffr run --vtk DIR --every EVERY` (the same bytes;
+    /// docs/vtk.md); a series that cannot be written raises `FfrError`
+    /// before the run.
+    #[pyo3(signature = (vtk = None, every = 1))]
+    fn run(&self, py: Python<'_>, vtk: Option<PathBuf>, every: usize) -> PyResult<RunResult> {
+        if every == 0 {
+            return Err(PyValueError::new_err(
+                "every = 0: the VTK series writes every K-th step, K ≥ 1",
+            ));
+        }
+        if vtk.is_none() && every != 1 {
+            return Err(PyValueError::new_err("every = … goes with vtk = DIR"));
+        }
         let scene = self.snapshot().built;
+        let mut options = ffr::scene::RunOptions::default();
+        options.vtk = vtk.map(|dir| ffr::scene::vtk::VtkOptions { dir, every });
         let r = py
-            .detach(move || ffr::scene::run(&scene))
-            .map_err(|e| SimulationError::new_err(e.to_string()))?;
+            .detach(move || ffr::scene::run_with(&scene, &options))
+            .map_err(|e| py_err(e, None))?;
         if let Some(f) = &r.failed {
             return Err(SimulationError::new_err(format!(
                 "the run stopped at t = {:.6} s: {f}",

@@ -292,6 +292,10 @@ pub struct CampbellMode {
     /// `lag` (in the plane, body y), `axial`, `torsion`, `rigid` (a frame
     /// coordinate), or the coordinate's own label.
     pub label: String,
+    /// The eigenvector in the system's coordinates: `(index, value)` of each
+    /// free coordinate (largest entry of the independent coordinates'
+    /// vector 1; phase arbitrary).
+    pub vector: Vec<(usize, Complex<f64>)>,
 }
 
 /// The kind of motion of a coordinate label (`blade.uz_3` → `flap`).
@@ -332,12 +336,25 @@ pub fn modes(sys_labels: &[String], model: &LinearModel, count: usize) -> Vec<Ca
         }
         cluster.retain(|(m, _)| (m - l).norm() <= 1e-6 * (1.0 + w));
         let (label, z) = mode_label(sys_labels, model, nz, l, &cluster);
+        let vector = if nz == 0 {
+            Vec::new()
+        } else {
+            let qv = model.basis.map(|x| Complex::new(x, 0.0)) * &z;
+            model
+                .parts
+                .free
+                .iter()
+                .enumerate()
+                .map(|(i, &g)| (g, qv[i]))
+                .collect()
+        };
         cluster.push((l, z));
         out.push(CampbellMode {
             omega: w,
             hz: w / std::f64::consts::TAU,
             zeta: if w > 0.0 { -l.re / w } else { 0.0 },
             label,
+            vector,
         });
     }
     out
@@ -434,6 +451,27 @@ pub fn campbell(
     joint: Option<usize>,
     count: usize,
 ) -> crate::Result<Campbell> {
+    campbell_with(spec, provider, speeds, joint, count, &mut |_, _, _, _| {
+        Ok(())
+    })
+}
+
+/// What [`campbell_with`] calls at each speed: its index, the scene built
+/// at that speed, the steady state, the modes.
+pub type EachSpeed<'a> =
+    dyn FnMut(usize, &super::Scene, &State, &[CampbellMode]) -> crate::Result<()> + 'a;
+
+/// [`campbell`], calling `each(i, scene, steady state, modes)` for the
+/// `i`-th speed (0-based) after its modes are found (e.g. to write their
+/// animations, [`super::vtk::write_linear_modes`]).
+pub fn campbell_with(
+    spec: &SceneSpec,
+    provider: &dyn KernelProvider,
+    speeds: &[f64],
+    joint: Option<usize>,
+    count: usize,
+    each: &mut EachSpeed<'_>,
+) -> crate::Result<Campbell> {
     let driven = |j: &crate::runtime::spec::scene::JointSpec| {
         j.kind == JointKind::Revolute && j.drive.is_some()
     };
@@ -488,7 +526,7 @@ pub fn campbell(
         ProfileSpec::Constant(v) => v,
     };
     let mut modes = Vec::with_capacity(speeds.len());
-    for &w in speeds {
+    for (i, &w) in speeds.iter().enumerate() {
         if !w.is_finite() {
             return Err(format!("--speeds: {w} is not a finite rate").into());
         }
@@ -501,7 +539,9 @@ pub fn campbell(
             .map_err(|e| format!("Ω = {w} rad/s: {e}"))?;
         let model = linearize(sys, &state, &[], &[])?;
         let labels = crate::runtime::linear::coordinate_labels(sys);
-        modes.push(self::modes(&labels, &model, count));
+        let m = self::modes(&labels, &model, count);
+        each(i, &scene, &state, &m)?;
+        modes.push(m);
     }
     Ok(Campbell {
         speeds: speeds.to_vec(),

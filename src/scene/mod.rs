@@ -13,6 +13,7 @@
 //! - [`linear`]: linear models (`A, B, C, D`) and Campbell diagrams;
 //! - `edit` (feature `scene-files`): scene variants by dotted keys
 //!   (`bodies.beam.params.e`), loaded with the loader's located errors;
+//! - `vtk` (feature `vtk`): ParaView time series and mode-shape animations;
 //! - `emit` (feature `scene-files`): a scene's specialized kernels as Rust.
 
 pub mod build;
@@ -26,6 +27,8 @@ pub mod load;
 pub mod model;
 pub mod provider;
 pub mod run;
+#[cfg(feature = "vtk")]
+pub mod vtk;
 
 pub use crate::error::SceneError;
 pub use crate::runtime::spec::scene as spec;
@@ -39,4 +42,4 @@ pub use model::{EnergyPart, Output, OutputKind, Scene, MAX_RECORDED_VALUES};
 pub use provider::KernelProvider;
 #[cfg(feature = "scene-files")]
 pub use provider::{DefaultKernels, GeneralKernels};
-pub use run::{run, SceneRun};
+pub use run::{run, run_with, RunOptions, SceneRun};

@@ -32,8 +32,59 @@ pub struct SceneRun {
     pub last: Option<crate::runtime::State>,
 }
 
+/// Options of [`run_with`] beyond recording the outputs.
+#[derive(Clone, Debug, Default, PartialEq)]
+#[non_exhaustive]
+pub struct RunOptions {
+    /// Write a ParaView time series while running (feature `vtk`; see
+    /// [`super::vtk`]): `DIR/<scene>.pvd` and one `.vtp` per written
+    /// sample, `<scene>` the scene file's name without extension.
+    #[cfg(feature = "vtk")]
+    pub vtk: Option<super::vtk::VtkOptions>,
+}
+
 /// Run `scene` to its end time, recording every output at every step.
 pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
+    run_observed(scene, |_, _| ControlFlow::Continue(()))
+}
+
+/// [`run`] with `options`: with `vtk`, the time series is checked before
+/// the run (nothing is run if it cannot be written) and written during it;
+/// its `.pvd` lists the samples written, also of a run that stopped early
+/// ([`SceneRun::failed`]). A sample to write whose coordinates are not all
+/// finite stops the run with an error (the `.pvd` lists the files before it).
+pub fn run_with(scene: &Scene, options: &RunOptions) -> crate::Result<SceneRun> {
+    #[cfg(feature = "vtk")]
+    if let Some(v) = &options.vtk {
+        let mut series =
+            super::vtk::VtkSeries::new(scene, v, &super::vtk::scene_stem(&scene.origin))?;
+        let mut failure = None;
+        let r = run_observed(scene, |t, q| match series.observe(t, q) {
+            Ok(()) => ControlFlow::Continue(()),
+            Err(e) => {
+                failure = Some(e);
+                ControlFlow::Break(())
+            }
+        })?;
+        if let Some(e) = failure {
+            // The .pvd of the files written before (best effort: the
+            // error reported is the one that stopped the series).
+            let _ = series.finish();
+            return Err(e);
+        }
+        series.finish()?;
+        return Ok(r);
+    }
+    let _ = options;
+    Ok(run(scene)?)
+}
+
+/// [`run`], calling `observe(t, q)` at every recorded sample after its
+/// outputs (a `Break` stops the run there).
+fn run_observed(
+    scene: &Scene,
+    mut observe: impl FnMut(f64, &[f64]) -> ControlFlow<()>,
+) -> Result<SceneRun, crate::runtime::Error> {
     let sys = &scene.system;
     let mut kins: Vec<(MarkerKin, Option<MarkerKin>)> = scene
         .outputs
@@ -141,7 +192,7 @@ pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
             };
             out.columns[i].push(value);
         }
-        ControlFlow::Continue(())
+        observe(v.state.t, q)
     });
     out.wall = start.elapsed().as_secs_f64();
     match res {

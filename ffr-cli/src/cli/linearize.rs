@@ -4,7 +4,7 @@
 use crate::output;
 use ffr::runtime::linear::{eigenvalues, LinearModel};
 use ffr::runtime::nalgebra::DMatrix;
-use ffr::scene::linear::{campbell as campbell_of, linearize_scene, At, Campbell};
+use ffr::scene::linear::{campbell_with, linearize_scene, At, Campbell};
 use serde_json::{json, Value};
 use std::error::Error;
 use std::path::{Path, PathBuf};
@@ -60,6 +60,10 @@ pub struct CampbellArgs {
     /// Write the Campbell diagram (with the 1P, 3P, 6P lines) to this SVG.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Write each speed's modes as ParaView animations over one period into
+    /// DIR (DIR/SCENE_speedI_modeJ.pvd, I and J from 1; see docs/vtk.md).
+    #[arg(long, value_name = "DIR")]
+    pub vtk: Option<PathBuf>,
 }
 
 /// An error of the library about the scene at `path`: a scene-file error
@@ -285,12 +289,53 @@ pub fn campbell(args: &CampbellArgs) -> Result<Campbell, Box<dyn Error>> {
         output::check_output(p, "--svg")?;
     }
     let spec = ffr::scene::load::load_spec(&args.scene)?;
-    let c = campbell_of(
+    let stem = ffr::scene::vtk::scene_stem(&args.scene.display().to_string());
+    let speed_name = |i: usize| {
+        let w = args.speeds.len().to_string().len().max(2);
+        format!("{stem}_speed{:0w$}", i + 1)
+    };
+    if let Some(dir) = &args.vtk {
+        // Every file checked before anything is computed or written.
+        let total = args
+            .speeds
+            .len()
+            .saturating_mul(args.count)
+            .saturating_mul(ffr::scene::vtk::FRAMES_PER_PERIOD + 1);
+        if total > ffr::scene::vtk::MAX_VTK_FILES {
+            return Err(format!(
+                "--vtk: {} speeds × {} modes × {} files = {total} VTK files, more than the limit of {}: fewer speeds or a smaller --count",
+                args.speeds.len(),
+                args.count,
+                ffr::scene::vtk::FRAMES_PER_PERIOD + 1,
+                ffr::scene::vtk::MAX_VTK_FILES
+            )
+            .into());
+        }
+        for i in 0..args.speeds.len() {
+            ffr::scene::vtk::check_mode_files(dir, &speed_name(i), args.count)?;
+        }
+    }
+    let mut write = |i: usize,
+                     scene: &ffr::scene::Scene,
+                     state: &ffr::runtime::State,
+                     modes: &[ffr::scene::linear::CampbellMode]|
+     -> ffr::Result<()> {
+        if let Some(dir) = &args.vtk {
+            let m: Vec<(f64, &ffr::scene::vtk::ModeVector)> = modes
+                .iter()
+                .map(|m| (m.omega, m.vector.as_slice()))
+                .collect();
+            ffr::scene::vtk::write_linear_modes(dir, &speed_name(i), scene, &state.q, &m)?;
+        }
+        Ok(())
+    };
+    let c = campbell_with(
         &spec,
         &ffr::scene::DefaultKernels,
         &args.speeds,
         args.joint.map(|j| j - 1),
         args.count,
+        &mut write,
     )
     .map_err(|e| located(&args.scene, e))?;
     if let Some(p) = &args.svg {

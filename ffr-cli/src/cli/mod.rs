@@ -78,6 +78,11 @@ pub enum Command {
         /// frequencies in rad/s and Hz).
         #[arg(long)]
         json: bool,
+        /// Write each mode as a ParaView animation over one period into DIR
+        /// (DIR/NAME_modeJ.pvd; largest node displacement 10 % of the body's
+        /// length; see docs/vtk.md).
+        #[arg(long, value_name = "DIR")]
+        vtk: Option<PathBuf>,
     },
     /// Write a body reduced to its lowest modes in a format other engines
     /// read (MBDyn modal .fem, SID); see docs/export.md.
@@ -140,6 +145,20 @@ pub enum Command {
         /// (comparisons).
         #[arg(long)]
         general: bool,
+        /// Write a ParaView time series into DIR: DIR/SCENE.pvd and one VTK
+        /// XML PolyData file (.vtp) per written step (see docs/vtk.md).
+        #[arg(long, value_name = "DIR")]
+        vtk: Option<PathBuf>,
+        /// With --vtk: write every K-th step (the initial state always); at
+        /// most 10000 step files.
+        #[arg(long, value_name = "K", requires = "vtk", default_value_t = 1,
+              value_parser = clap::value_parser!(u64).range(1..))]
+        every: u64,
+        /// A reference history (CSV: `t,NAME,…`): its columns named like
+        /// the scene's outputs are drawn over them in the plot, and the
+        /// largest difference of each is printed.
+        #[arg(long, value_name = "FILE.csv")]
+        reference: Option<PathBuf>,
     },
     /// Print the generated Rust: element kernels of a shape, a body with a
     /// fixed mesh (`--elements`), or every flexible body of a scene (`--scene`).
@@ -279,7 +298,16 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             count,
             boundary,
             json,
-        }) => modes(&body, &params, &from_scene, count, &boundary, json),
+            vtk,
+        }) => modes(
+            &body,
+            &params,
+            &from_scene,
+            count,
+            &boundary,
+            json,
+            vtk.as_deref(),
+        ),
         Some(Command::Export {
             format,
             body,
@@ -300,7 +328,16 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             csv,
             svg,
             general,
-        }) => run_scene(&scene, &csv, &svg, general).map(|_| ()),
+            vtk,
+            every,
+            reference,
+        }) => {
+            let vtk = vtk.map(|dir| ffr::scene::vtk::VtkOptions {
+                dir,
+                every: usize::try_from(every).unwrap_or(usize::MAX),
+            });
+            run_scene(&scene, &csv, &svg, general, vtk, reference.as_deref()).map(|_| ())
+        }
         None => spin_up(&SpinUpArgs::default()).map(|_| ()),
     }
 }

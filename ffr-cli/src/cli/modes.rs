@@ -147,6 +147,100 @@ fn fe_basis(
     Ok(basis)
 }
 
+/// The body of `--scene FILE --body NAME` ([`ReducibleBody::of_scene_body`]),
+/// and the runtime body whose point shapes draw its modes (`--vtk`): the
+/// scene's when it has the reduction's coordinates, else (a modal body of
+/// the scene) the same beam with nodal coordinates.
+fn reducible_from_scene(
+    scene: ffr::scene::Scene,
+    name: &str,
+) -> Result<(ReducibleBody, DrawnBeam), Box<dyn Error>> {
+    let (id, f) = scene.flex_body(name)?;
+    let b = ReducibleBody::of_scene_body(f, scene.system.body(id))?;
+    let drawn = if scene.system.body(id).layout().nf == b.dofs.len() {
+        DrawnBeam::Scene(Box::new(scene), id)
+    } else {
+        let f = f.clone();
+        DrawnBeam::Beam(beam_of(
+            &f.shape,
+            f.elements,
+            f.reference,
+            f.options.formalism,
+            f.params,
+        )?)
+    };
+    Ok((b, drawn))
+}
+
+/// The runtime body whose point shapes draw mode shapes.
+enum DrawnBeam {
+    /// A body of a scene.
+    Scene(Box<ffr::scene::Scene>, ffr::runtime::BodyId),
+    /// A beam made for it.
+    Beam(Box<dyn ffr::runtime::Body>),
+}
+
+impl DrawnBeam {
+    fn body(&self) -> &dyn ffr::runtime::Body {
+        match self {
+            DrawnBeam::Scene(s, id) => s.system.body(*id).as_ref(),
+            DrawnBeam::Beam(b) => b.as_ref(),
+        }
+    }
+}
+
+/// The runtime beam of these flags (its point shapes draw mode shapes).
+fn beam_of(
+    shape: &str,
+    elements: usize,
+    reference: Reference,
+    formalism: Formalism,
+    params: ffr::runtime::spec::Params,
+) -> Result<Box<dyn ffr::runtime::Body>, Box<dyn Error>> {
+    let mut spec = ffr::BeamSpec::new(shape, elements, params).formalism(formalism);
+    spec.reference = reference;
+    Ok(Box::new(spec.body()?))
+}
+
+/// Write each mode of `basis` as an animation into `dir` (see
+/// [`ffr::scene::vtk::write_modes`]); `name` names the files.
+pub fn write_mode_animations(
+    dir: &Path,
+    name: &str,
+    b: &ReducibleBody,
+    body: &dyn ffr::runtime::Body,
+    basis: &ModalBasis,
+) -> Result<Vec<ffr::scene::vtk::VtkWritten>, Box<dyn Error>> {
+    use ffr::scene::vtk::{equal_nodes, write_modes, ModeShape};
+    if body.layout().nf != b.dofs.len() {
+        return Err(format!(
+            "the body drawn has {} elastic coordinates, the reduction {}",
+            body.layout().nf,
+            b.dofs.len()
+        )
+        .into());
+    }
+    let nodes = b
+        .nodes
+        .clone()
+        .unwrap_or_else(|| equal_nodes(b.spec.elements, b.params.length));
+    let modes: Vec<ModeShape> = (0..basis.len())
+        .map(|j| ModeShape {
+            label: basis.labels[j].clone(),
+            omega: basis.frequencies.get(j).copied(),
+            phi: basis.phi.column(j).iter().copied().collect(),
+        })
+        .collect();
+    Ok(write_modes(
+        dir,
+        name,
+        body,
+        &nodes,
+        b.params.length,
+        &modes,
+    )?)
+}
+
 /// `ffr modes`: print the frequencies (or, with `json`, the whole reduction).
 /// A scene's FE body (`--scene … --body …`) is reduced on its FE nodes
 /// (`--boundary`: FE node indices).
@@ -157,39 +251,84 @@ pub fn modes(
     count: Option<usize>,
     boundary: &[usize],
     json: bool,
+    vtk: Option<&Path>,
 ) -> Result<(), Box<dyn Error>> {
-    let (description, dofs, invariants, basis, free) =
-        match (&from_scene.scene, &from_scene.body_name) {
-            (Some(path), Some(name)) => {
-                let scene = ffr::scene::load(path)?;
-                match fe_from_scene(&scene, name)? {
-                    Some(fe) => {
-                        let basis = fe_basis(&fe, count, boundary, "--count")?;
-                        let free = fe.reference == ffr::codegen::fe::FeReference::Free;
-                        (
-                            ffr::fe::describe(&fe),
-                            fe.dof_names,
-                            fe.invariants,
-                            basis,
-                            free,
-                        )
+    // With --vtk, each mode as an animation (beams; FE bodies are refused).
+    let write_vtk = |b: &ReducibleBody,
+                     drawn: DrawnBeam,
+                     name: &str,
+                     basis: &ModalBasis|
+     -> Result<(), Box<dyn Error>> {
+        let Some(dir) = vtk else { return Ok(()) };
+        let stem = ffr::scene::vtk::series_name(
+            &Path::new(name)
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| name.to_string()),
+        );
+        let written = write_mode_animations(dir, &stem, b, drawn.body(), basis)?;
+        // With --json, standard output is the JSON object alone.
+        if !json {
+            crate::outln!(
+                "wrote {} mode animations ({} frames each) to {}: {}_mode*.pvd",
+                written.len(),
+                ffr::scene::vtk::FRAMES_PER_PERIOD,
+                dir.display(),
+                stem
+            )?;
+        }
+        Ok(())
+    };
+    let (description, dofs, invariants, basis, free) = match (
+        &from_scene.scene,
+        &from_scene.body_name,
+    ) {
+        (Some(path), Some(name)) => {
+            let scene = ffr::scene::load(path)?;
+            match fe_from_scene(&scene, name)? {
+                Some(fe) => {
+                    if vtk.is_some() {
+                        return Err(format!(
+                                "--vtk: `{name}` is an FE body; mode animations are written for beams only"
+                            )
+                            .into());
                     }
-                    None => {
-                        let (id, f) = scene.flex_body(name)?;
-                        let b = ReducibleBody::of_scene_body(f, scene.system.body(id))?;
-                        let basis = b.reduce(count, boundary, "--count")?;
-                        let free = b.spec.reference == Reference::Free;
-                        (b.description(), b.dofs, b.invariants, basis, free)
-                    }
+                    let basis = fe_basis(&fe, count, boundary, "--count")?;
+                    let free = fe.reference == ffr::codegen::fe::FeReference::Free;
+                    (
+                        ffr::fe::describe(&fe),
+                        fe.dof_names,
+                        fe.invariants,
+                        basis,
+                        free,
+                    )
+                }
+                None => {
+                    let (b, drawn) = reducible_from_scene(scene, name)?;
+                    let basis = b.reduce(count, boundary, "--count")?;
+                    write_vtk(&b, drawn, name, &basis)?;
+                    let free = b.spec.reference == Reference::Free;
+                    (b.description(), b.dofs, b.invariants, basis, free)
                 }
             }
-            _ => {
-                let b = reducible(body, params)?;
-                let basis = b.reduce(count, boundary, "--count")?;
-                let free = b.spec.reference == Reference::Free;
-                (b.description(), b.dofs, b.invariants, basis, free)
+        }
+        _ => {
+            let b = reducible(body, params)?;
+            let basis = b.reduce(count, boundary, "--count")?;
+            if vtk.is_some() {
+                let drawn = DrawnBeam::Beam(beam_of(
+                    &body.shape,
+                    body.elements as usize,
+                    body.reference,
+                    body.formalism,
+                    params.values(),
+                )?);
+                write_vtk(&b, drawn, &body.shape, &basis)?;
             }
-        };
+            let free = b.spec.reference == Reference::Free;
+            (b.description(), b.dofs, b.invariants, basis, free)
+        }
+    };
     if json {
         crate::outln!(
             "{}",

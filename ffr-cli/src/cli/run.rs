@@ -11,6 +11,8 @@ pub fn run_scene(
     csv: &Option<PathBuf>,
     svg: &Option<PathBuf>,
     general: bool,
+    vtk: Option<ffr::scene::vtk::VtkOptions>,
+    reference: Option<&Path>,
 ) -> Result<ffr::scene::SceneRun, Box<dyn std::error::Error>> {
     let scene = if general {
         ffr::scene::load_with(path, &ffr::scene::GeneralKernels)?
@@ -22,8 +24,15 @@ pub fn run_scene(
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let (csv, svg) = outputs(csv, svg, &tag)?;
+    // A reference is read and matched before the run.
+    let reference = match reference {
+        Some(p) => Some(read_reference(p, &scene)?),
+        None => None,
+    };
     let c0 = crate::clock::thread_cpu_seconds();
-    let r = ffr::scene::run(&scene)?;
+    let mut options = ffr::scene::RunOptions::default();
+    options.vtk = vtk.clone();
+    let r = ffr::scene::run_with(&scene, &options)?;
     let cpu = crate::clock::thread_cpu_seconds() - c0;
     let names: Vec<&str> = r.names.iter().map(String::as_str).collect();
     let cols: Vec<&[f64]> = r.columns.iter().map(Vec::as_slice).collect();
@@ -31,11 +40,37 @@ pub fn run_scene(
         check_finite_columns(&r.t, &names, &cols)?;
     }
     let series: Vec<(&str, &[f64])> = names.iter().copied().zip(cols.iter().copied()).collect();
-    let plot = crate::plot::time_svg(
+    let names_ref: Vec<String> = reference
+        .as_ref()
+        .map(|(rf, matched)| {
+            matched
+                .iter()
+                .map(|c| format!("{c} ({})", reference_name(rf)))
+                .collect()
+        })
+        .unwrap_or_default();
+    let overlays: Vec<crate::plot::TimedSeries> = reference
+        .as_ref()
+        .map(|(rf, matched)| {
+            matched
+                .iter()
+                .zip(&names_ref)
+                .map(|(c, n)| {
+                    (
+                        n.as_str(),
+                        rf.t.as_slice(),
+                        rf.column(c).expect("a matched column"),
+                    )
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let plot = crate::plot::time_svg_with(
         scene.description.as_deref().unwrap_or(&scene.origin),
-        "outputs",
+        &y_label(&scene),
         &r.t,
         &series,
+        &overlays,
     )?;
     output::write_all_atomic(&[
         (&csv, crate::plot::csv(&r.t, &names, &cols).as_bytes()),
@@ -81,7 +116,55 @@ pub fn run_scene(
         r.wall,
         cpu
     )?;
+    if let Some((rf, matched)) = &reference {
+        crate::outln!(
+            "reference {} (t from {} to {} s): max |run − reference| at the run's times in that span, the reference interpolated linearly:",
+            text(&rf.source, MAX_ECHO_CHARS),
+            rf.t[0],
+            rf.t[rf.t.len() - 1]
+        )?;
+        for c in matched {
+            let i = r
+                .names
+                .iter()
+                .position(|n| n == c)
+                .expect("a matched column");
+            let label = text(c, crate::plot::MAX_LABEL_CHARS);
+            match rf.max_abs_difference(c, &r.t, &r.columns[i]) {
+                Some((d, n)) => crate::outln!("  {label}: {d:.6e} ({n} samples)")?,
+                None => {
+                    crate::outln!("  {label}: no sample of the run in the reference's time span")?
+                }
+            }
+        }
+        let unmatched: Vec<String> = rf
+            .columns
+            .iter()
+            .filter(|c| !matched.contains(c))
+            .map(|c| text(c, crate::plot::MAX_LABEL_CHARS))
+            .collect();
+        if !unmatched.is_empty() {
+            crate::outln!(
+                "  not outputs of the scene (ignored): {}",
+                unmatched.join(", ")
+            )?;
+        }
+    }
     crate::outln!("wrote {} and {}", csv.display(), svg.display())?;
+    if let Some(v) = &vtk {
+        let files = r.t.len().div_ceil(v.every);
+        crate::outln!(
+            "wrote {} and {files} VTK step files (every {} of {} samples)",
+            v.dir
+                .join(format!(
+                    "{}.pvd",
+                    ffr::scene::vtk::scene_stem(&scene.origin)
+                ))
+                .display(),
+            v.every,
+            r.t.len()
+        )?;
+    }
     if let Some(f) = &r.failed {
         return Err(format!(
             "the run stopped at t = {:.6} s: {f}",
@@ -90,6 +173,74 @@ pub fn run_scene(
         .into());
     }
     Ok(r)
+}
+
+/// The reference CSV at `path` ([`crate::reference::Reference::read`]) and
+/// its columns that are outputs of `scene` (in the reference's order); an
+/// error if none is.
+fn read_reference(
+    path: &Path,
+    scene: &ffr::scene::Scene,
+) -> Result<(crate::reference::Reference, Vec<String>), Box<dyn std::error::Error>> {
+    let rf = crate::reference::Reference::read(path)?;
+    let matched: Vec<String> = rf
+        .columns
+        .iter()
+        .filter(|c| scene.outputs.iter().any(|o| &o.name == *c))
+        .cloned()
+        .collect();
+    if matched.is_empty() {
+        let text = |v: Vec<&str>| {
+            v.iter()
+                .map(|c| ffr::codegen::sanitize::snippet(c, crate::plot::MAX_LABEL_CHARS))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        return Err(format!(
+            "{}: --reference: no column is an output of the scene (its columns: {}; the scene's outputs: {})",
+            rf.source,
+            text(rf.columns.iter().map(String::as_str).collect()),
+            text(scene.outputs.iter().map(|o| o.name.as_str()).collect())
+        )
+        .into());
+    }
+    Ok((rf, matched))
+}
+
+/// How a reference's curves are named in the legend: `reference FILE`.
+fn reference_name(rf: &crate::reference::Reference) -> String {
+    let file = Path::new(&rf.source)
+        .file_name()
+        .map_or_else(|| rf.source.clone(), |f| f.to_string_lossy().into_owned());
+    format!("reference {file}")
+}
+
+/// The unit of an output (SI, as scene files are written).
+pub(crate) fn unit(kind: &ffr::scene::OutputKind) -> &'static str {
+    use ffr::scene::OutputKind;
+    match kind {
+        OutputKind::Position(_) | OutputKind::Deflection(_) => "m",
+        OutputKind::Velocity(_) => "m/s",
+        OutputKind::Angle => "rad",
+        OutputKind::Energy(_) => "J",
+    }
+}
+
+/// The y axis label of a scene's plot: `outputs (UNITS)`, the outputs'
+/// distinct units in their order.
+fn y_label(scene: &ffr::scene::Scene) -> String {
+    let mut units: Vec<&str> = Vec::new();
+    for o in &scene.outputs {
+        let u = unit(&o.kind);
+        if !units.contains(&u) {
+            units.push(u);
+        }
+    }
+    if units.is_empty() {
+        "outputs".into()
+    } else {
+        format!("outputs ({})", units.join(", "))
+    }
 }
 
 /// Longest user text (a scene's description or path, a body name) echoed on

@@ -1,0 +1,217 @@
+//! `ffr run --vtk DIR [--every K]` and `ffr modes --vtk DIR`: the errors
+//! (flags, a directory that is a file, files not ours, the bound on the
+//! number of files) and the library's `run_with` (the `.pvd` lists the
+//! run's times). The files are read back by VTK itself in
+//! python/tests/test_vtk.py.
+
+mod common;
+use common::cli::ffr;
+use ffr::scene::vtk::{VtkOptions, MARK, MAX_VTK_FILES};
+use std::path::{Path, PathBuf};
+
+/// A fresh temporary directory for one test.
+fn temp_dir(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("ffr-vtk-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn scene(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn listing(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn every_needs_vtk_and_is_at_least_one() {
+    let dir = temp_dir("flags");
+    let csv = dir.join("o.csv");
+    let (ok, _, err) = ffr(&[
+        "run",
+        &scene("spin_up.toml"),
+        "--csv",
+        s(&csv),
+        "--every",
+        "3",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("--vtk"), "{err}");
+    let v = dir.join("v");
+    let (ok, _, err) = ffr(&[
+        "run",
+        &scene("spin_up.toml"),
+        "--csv",
+        s(&csv),
+        "--vtk",
+        s(&v),
+        "--every",
+        "0",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("--every") && err.contains('0'), "{err}");
+    assert!(!csv.exists() && !v.exists());
+}
+
+#[test]
+fn a_directory_that_is_a_file_is_refused_before_the_run() {
+    let dir = temp_dir("file");
+    let csv = dir.join("o.csv");
+    let f = dir.join("f");
+    std::fs::write(&f, "keep").unwrap();
+    let (ok, _, err) = ffr(&[
+        "run",
+        &scene("spin_up.toml"),
+        "--csv",
+        s(&csv),
+        "--vtk",
+        s(&f),
+    ]);
+    assert!(!ok);
+    assert!(err.contains("exists and is not a directory"), "{err}");
+    assert_eq!(std::fs::read_to_string(&f).unwrap(), "keep");
+    assert!(!csv.exists(), "nothing run, nothing written");
+}
+
+#[test]
+fn files_not_written_by_ffr_are_not_replaced() {
+    let dir = temp_dir("foreign");
+    let v = dir.join("v");
+    std::fs::create_dir_all(&v).unwrap();
+    std::fs::write(v.join("spin_up.pvd"), "mine").unwrap();
+    let csv = dir.join("o.csv");
+    let args = [
+        "run",
+        &scene("spin_up.toml"),
+        "--csv",
+        s(&csv),
+        "--vtk",
+        s(&v),
+        "--every",
+        "500",
+    ];
+    let (ok, _, err) = ffr(&args);
+    assert!(!ok);
+    assert!(
+        err.contains("spin_up.pvd: exists and was not written by ffr: not replaced"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(v.join("spin_up.pvd")).unwrap(),
+        "mine"
+    );
+    assert_eq!(listing(&v), ["spin_up.pvd"]);
+    // A file ffr wrote (starting with its mark) is replaced.
+    std::fs::write(v.join("spin_up.pvd"), MARK).unwrap();
+    let (ok, out, err) = ffr(&args);
+    assert!(ok, "{err}");
+    assert!(out.contains("5 VTK step files"), "{out}");
+    assert_eq!(
+        listing(&v),
+        [
+            "spin_up.pvd",
+            "spin_up_0000.vtp",
+            "spin_up_0500.vtp",
+            "spin_up_1000.vtp",
+            "spin_up_1500.vtp",
+            "spin_up_2000.vtp"
+        ]
+    );
+    // The modes' animations refuse the same way, before writing any.
+    std::fs::write(v.join("beam2_mode02_05.vtp"), "mine").unwrap();
+    let (ok, _, err) = ffr(&[
+        "modes",
+        "--shape",
+        "beam2",
+        "--elements",
+        "2",
+        "--count",
+        "2",
+        "--vtk",
+        s(&v),
+    ]);
+    assert!(!ok);
+    assert!(
+        err.contains("beam2_mode02_05.vtp: exists and was not written by ffr"),
+        "{err}"
+    );
+    assert!(!listing(&v).iter().any(|f| f.starts_with("beam2_mode01")));
+}
+
+#[test]
+fn the_number_of_files_is_bounded() {
+    // dt = 1e-3 over 20 s: 20001 samples, more than MAX_VTK_FILES; refused
+    // before the run, with the smallest --every that fits.
+    let dir = temp_dir("bound");
+    let text = std::fs::read_to_string(scene("spin_up.toml"))
+        .unwrap()
+        .replace("dt = 0.01\n", "dt = 0.001\n");
+    let path = dir.join("fine.toml");
+    std::fs::write(&path, text).unwrap();
+    let v = dir.join("v");
+    let (ok, _, err) = ffr(&[
+        "run",
+        s(&path),
+        "--csv",
+        s(&dir.join("o.csv")),
+        "--vtk",
+        s(&v),
+    ]);
+    assert!(!ok);
+    assert_eq!(MAX_VTK_FILES, 10_000);
+    assert!(
+        err.contains("20001 samples with every = 1 would write 20001 VTK files, more than the limit of 10000: use every ≥ 3 (--every 3)"),
+        "{err}"
+    );
+    assert!(!v.exists());
+}
+
+#[test]
+fn run_with_writes_one_file_per_every_samples_at_the_runs_times() {
+    let dir = temp_dir("lib");
+    let scene = ffr::scene::load(Path::new(&scene("two_link_arm.toml"))).unwrap();
+    let mut options = ffr::scene::RunOptions::default();
+    options.vtk = Some(VtkOptions {
+        dir: dir.clone(),
+        every: 9,
+    });
+    let r = ffr::scene::run_with(&scene, &options).unwrap();
+    assert!(r.failed.is_none());
+    let plain = ffr::scene::run(&scene).unwrap();
+    assert_eq!(r.t, plain.t);
+    assert_eq!(
+        r.columns, plain.columns,
+        "writing the series changes no output"
+    );
+    let pvd = std::fs::read_to_string(dir.join("two_link_arm.pvd")).unwrap();
+    let times: Vec<f64> = pvd
+        .lines()
+        .filter_map(|l| l.split("timestep=\"").nth(1))
+        .map(|l| l.split('"').next().unwrap().parse().unwrap())
+        .collect();
+    let want: Vec<f64> = r.t.iter().step_by(9).copied().collect();
+    assert_eq!(times, want);
+    assert_eq!(listing(&dir).len(), want.len() + 1);
+    // every = 0 is refused, naming the option.
+    options.vtk = Some(VtkOptions {
+        dir: dir.clone(),
+        every: 0,
+    });
+    let e = ffr::scene::run_with(&scene, &options).unwrap_err();
+    assert!(e.to_string().contains("every = 0"), "{e}");
+}
