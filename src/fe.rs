@@ -45,17 +45,7 @@ pub fn body(f: &FeSpec) -> Result<FeBody, String> {
 }
 
 /// One line naming an FE body: nodes, elastic coordinates, reference,
-/// interface.
+/// interface ([`FeBody::describe`]).
 pub fn describe(body: &FeBody) -> String {
-    format!(
-        "FE body ({} nodes, {} elastic coordinates, {} reference{})",
-        body.model.len(),
-        body.nf(),
-        body.reference,
-        if body.interface.is_empty() {
-            String::new()
-        } else {
-            format!(", interface nodes {:?}", body.interface)
-        }
-    )
+    body.describe()
 }

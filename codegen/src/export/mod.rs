@@ -196,15 +196,8 @@ impl ExportBody {
             }
         }
         let title = format!(
-            "FE body, {} nodes, {} elastic coordinates, {} reference{}, from {} and {}; {} modes ({})",
-            body.model.len(),
-            body.nf(),
-            body.reference,
-            if body.interface.is_empty() {
-                String::new()
-            } else {
-                format!(", interface nodes {:?}", body.interface)
-            },
+            "{}, from {} and {}; {} modes ({})",
+            body.describe(),
             body.model.mass_file,
             body.model.stiffness_file,
             k,

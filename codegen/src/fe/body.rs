@@ -46,6 +46,23 @@ pub struct FeBody {
 }
 
 impl FeBody {
+    /// One line naming the body: nodes, elastic coordinates, reference,
+    /// interface (`FE body (65 nodes, 195 elastic coordinates, clamped
+    /// reference, interface nodes [0, 1, 2])`).
+    pub fn describe(&self) -> String {
+        format!(
+            "FE body ({} nodes, {} elastic coordinates, {} reference{})",
+            self.model.len(),
+            self.nf(),
+            self.reference,
+            if self.interface.is_empty() {
+                String::new()
+            } else {
+                format!(", interface nodes {:?}", self.interface)
+            }
+        )
+    }
+
     /// The body `model` makes with `reference` and the interface nodes
     /// `interface` (0-based, no repeats; at least one for a clamped body).
     /// A clamped body's `K_ff` must be positive definite (the interface
