@@ -434,6 +434,35 @@ def test_fe_mode_animations_are_phi_scaled_as_documented(ffr_bin, tmp_path, args
         assert abs(np.max(np.linalg.norm(a["displacement"], axis=1)) - 0.1 * size) <= 1e-14
 
 
+def test_fe_campbell_animations_draw_the_nodes(ffr_bin, tmp_path):
+    """`ffr campbell --vtk` on a scene with an FE body (the FE pendulum
+    without gravity, its revolute joint driven): the nodes are drawn, and at
+    Ω = 0 the largest node displacement over the period is 10 % of the
+    body's size (1 m) up to the 24-frame sampling of the phase."""
+    text = (FE / "pendulum.toml").read_text()
+    for key in ("nodes", "mass", "stiffness"):
+        name = f"cantilever_{key}.{'csv' if key == 'nodes' else 'mtx'}"
+        text = text.replace(f'"{name}"', json.dumps(str(FE / name)))
+    text = text.replace("gravity = [0.0, -9.81, 0.0]", "gravity = [0.0, 0.0, 0.0]")
+    text = text.replace('b = "bar"\n', 'b = "bar"\ndrive = { angle = "spin-up", omega = 4.0, ramp = 15.0 }\n')
+    assert "drive" in text and "9.81" not in text
+    scene = tmp_path / "rotor.toml"
+    scene.write_text(text)
+    out = tmp_path / "campbell"
+    r = run_ffr(ffr_bin, "campbell", scene, "--speeds", "0", "--count", "2", "--vtk", out)
+    assert r.returncode == 0, r.stderr
+    for j in range(2):
+        _, files = read_pvd(out / f"rotor_speed01_mode{j + 1:02}.pvd")
+        assert len(files) == FRAMES
+        peak = 0.0
+        for f in files:
+            _, a, _ = read_vtp(out / f)
+            bar = a["node"] >= 0
+            assert np.array_equal(a["node"][bar], np.arange(99))
+            peak = max(peak, np.max(np.linalg.norm(a["displacement"][bar], axis=1)))
+        assert 0.1 * math.cos(math.pi / FRAMES) * (1 - 1e-9) <= peak <= 0.1 * (1 + 1e-9)
+
+
 def test_python_run_writes_the_command_lines_series(ffr_bin, tmp_path):
     """`Scene.run(vtk=DIR, every=K)` writes the bytes of `ffr run --vtk DIR
     --every K`; `every` without `vtk`, or 0, is a ValueError."""
