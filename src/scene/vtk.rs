@@ -286,8 +286,10 @@ impl Frames {
 
     /// The drawing at the coordinates `q`, as one PolyData piece.
     pub fn piece(&mut self, q: &[f64]) -> PolyDataPiece {
-        let mut out = Piece::default();
-        out.fe_nodes = self.bodies.iter().any(|b| b.kind == Drawn::Nodes);
+        let mut out = Piece {
+            fe_nodes: self.bodies.iter().any(|b| b.kind == Drawn::Nodes),
+            ..Piece::default()
+        };
         for (b, kins) in self.bodies.iter().zip(&mut self.kins) {
             let first = out.len();
             for (n, (p, (k, k0))) in b.points.iter().zip(kins.iter_mut()).enumerate() {
