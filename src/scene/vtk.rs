@@ -739,9 +739,9 @@ impl VtkSeries {
 pub const FRAMES_PER_PERIOD: usize = 24;
 
 /// A mode shape's amplitude in its animation: the largest node
-/// displacement is this fraction of the body's length (a mode that moves no
-/// node, only rotates sections: the largest section rotation is this many
-/// radians).
+/// displacement is this fraction of the body's length (an FE body's: its
+/// [`nodes_size`]; a mode that moves no node, only rotates sections: the
+/// largest section rotation is this many radians).
 pub const MODE_AMPLITUDE: f64 = 0.1;
 
 /// One mode to animate: its label, its angular frequency (rad/s; `None`
