@@ -1,7 +1,8 @@
 //! `ffr run --vtk DIR [--every K]` and `ffr modes --vtk DIR`: the errors
 //! (flags, a directory that is a file, files not ours, the bound on the
-//! number of files) and the library's `run_with` (the `.pvd` lists the
-//! run's times). The files are read back by VTK itself in
+//! number of files), FE bodies' mode animations at the command line, and the
+//! library's `run_with` (the `.pvd` lists the run's times; an FE body drawn
+//! as its nodes). The files are read back by VTK itself in
 //! python/tests/test_vtk.py.
 
 mod common;
@@ -214,4 +215,119 @@ fn run_with_writes_one_file_per_every_samples_at_the_runs_times() {
     });
     let e = ffr::scene::run_with(&scene, &options).unwrap_err();
     assert!(e.to_string().contains("every = 0"), "{e}");
+}
+
+/// The FE pendulum (tests/data/fe/pendulum.toml) at `path`, its files named
+/// by absolute paths, run for `t_end`.
+fn fe_pendulum(path: &Path, t_end: &str) {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/fe");
+    let mut text = std::fs::read_to_string(data.join("pendulum.toml")).unwrap();
+    assert!(text.contains("t_end = 1.0\n"));
+    text = text.replace("t_end = 1.0\n", &format!("t_end = {t_end}\n"));
+    for f in [
+        "cantilever_nodes.csv",
+        "cantilever_mass.mtx",
+        "cantilever_stiffness.mtx",
+    ] {
+        let quoted = format!("\"{f}\"");
+        assert!(text.contains(&quoted));
+        text = text.replace(&quoted, &format!("{:?}", s(&data.join(f))));
+    }
+    std::fs::write(path, text).unwrap();
+}
+
+#[test]
+fn fe_mode_animations_refuse_files_not_ours_and_keep_json_alone() {
+    let dir = temp_dir("fe-modes");
+    let scene = dir.join("pendulum.toml");
+    fe_pendulum(&scene, "1.0");
+    let v = dir.join("v");
+    std::fs::create_dir_all(&v).unwrap();
+    std::fs::write(v.join("bar_mode02_05.vtp"), "mine").unwrap();
+    let args = [
+        "modes",
+        "--scene",
+        s(&scene),
+        "--body",
+        "bar",
+        "--count",
+        "2",
+        "--json",
+        "--vtk",
+        s(&v),
+    ];
+    let (ok, _, err) = ffr(&args);
+    assert!(!ok);
+    assert!(
+        err.contains("bar_mode02_05.vtp: exists and was not written by ffr"),
+        "{err}"
+    );
+    assert_eq!(listing(&v), ["bar_mode02_05.vtp"], "nothing written");
+    std::fs::remove_file(v.join("bar_mode02_05.vtp")).unwrap();
+    // With --json, standard output is the JSON object alone.
+    let (ok, out, err) = ffr(&args);
+    assert!(ok, "{err}");
+    let m: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(m["labels"].as_array().unwrap().len(), 2);
+    let files = listing(&v);
+    assert_eq!(files.len(), 2 * (1 + ffr::scene::vtk::FRAMES_PER_PERIOD));
+    assert!(files.contains(&"bar_mode01.pvd".to_string()));
+    assert!(files.contains(&"bar_mode02_23.vtp".to_string()));
+    // Without --json, one line says what was written.
+    let (ok, out, err) = ffr(&[
+        "modes",
+        "--scene",
+        s(&scene),
+        "--body",
+        "bar",
+        "--count",
+        "2",
+        "--vtk",
+        s(&v),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("wrote 2 mode animations (24 frames each)") && out.contains("bar_mode*.pvd"),
+        "{out}"
+    );
+}
+
+#[test]
+fn run_with_draws_an_fe_body_as_its_nodes() {
+    let dir = temp_dir("fe-run");
+    let path = dir.join("pendulum.toml");
+    fe_pendulum(&path, "0.002");
+    let fe = ffr::scene::load(&path).unwrap();
+    let v = dir.join("v");
+    let mut options = ffr::scene::RunOptions::default();
+    options.vtk = Some(VtkOptions::new(&v));
+    let r = ffr::scene::run_with(&fe, &options).unwrap();
+    assert!(r.failed.is_none());
+    assert_eq!(
+        listing(&v),
+        [
+            "pendulum.pvd",
+            "pendulum_0000.vtp",
+            "pendulum_0001.vtp",
+            "pendulum_0002.vtp"
+        ]
+    );
+    // 99 nodes and the joint, each a vertex; the array `node` only in a
+    // file that draws an FE body.
+    let text = std::fs::read_to_string(v.join("pendulum_0002.vtp")).unwrap();
+    assert!(
+        text.contains(r#"<Piece NumberOfPoints="100" NumberOfVerts="100">"#),
+        "{}",
+        &text[..400]
+    );
+    assert!(text.contains(r#"Name="node""#));
+    let beams = dir.join("beams");
+    options.vtk = Some(VtkOptions {
+        dir: beams.clone(),
+        every: 1000,
+    });
+    let arm = ffr::scene::load(Path::new(&scene("two_link_arm.toml"))).unwrap();
+    ffr::scene::run_with(&arm, &options).unwrap();
+    let text = std::fs::read_to_string(beams.join("two_link_arm_0000.vtp")).unwrap();
+    assert!(text.contains(r#"Name="kind""#) && !text.contains(r#"Name="node""#));
 }

@@ -398,6 +398,13 @@ pub trait Body: Send + Sync {
     /// naming the valid range.
     fn point_shape(&self, x: f64) -> Result<PointShape>;
 
+    /// The number of nodes [`Body::node_shape`] names (an FE body's nodes,
+    /// `0` to `node_count() − 1`); 0, the default, for bodies without nodes
+    /// to name.
+    fn node_count(&self) -> usize {
+        0
+    }
+
     /// Node `node` of an FE body (a marker `NAME@node=N`), or an error: the
     /// default, for bodies without nodes to name.
     fn node_shape(&self, node: usize) -> Result<PointShape> {
@@ -533,6 +540,9 @@ impl<B: Body + ?Sized> Body for Box<B> {
     }
     fn point_shape(&self, x: f64) -> Result<PointShape> {
         (**self).point_shape(x)
+    }
+    fn node_count(&self) -> usize {
+        (**self).node_count()
     }
     fn node_shape(&self, node: usize) -> Result<PointShape> {
         (**self).node_shape(node)

@@ -716,6 +716,10 @@ impl Body for ModalBody {
         Ok(self.project_point(self.inner.point_shape(x)?))
     }
 
+    fn node_count(&self) -> usize {
+        self.inner.node_count()
+    }
+
     fn node_shape(&self, node: usize) -> Result<PointShape> {
         Ok(self.project_point(self.inner.node_shape(node)?))
     }

@@ -96,11 +96,6 @@ impl NodalBody {
         })
     }
 
-    /// Number of nodes.
-    pub fn node_count(&self) -> usize {
-        self.nodes.len()
-    }
-
     fn terms(&self) -> &InertiaTerms {
         self.terms
             .get_or_init(|| InertiaTerms::new(self.inv.clone(), true, false))
@@ -159,6 +154,10 @@ impl Body for NodalBody {
         ))
     }
 
+    fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
     fn node_shape(&self, node: usize) -> Result<PointShape> {
         let n = self.nodes.len();
         let Some(x) = self.nodes.get(node) else {
@@ -204,6 +203,7 @@ mod tests {
     #[test]
     fn nodes_are_points_with_their_coordinates() {
         let b = body();
+        assert_eq!(b.node_count(), 2);
         let tip = b.node_shape(1).unwrap();
         assert_eq!(tip.u0, [1.0, 0.0, 0.0]);
         assert_eq!(

@@ -1,6 +1,6 @@
 """`ffr run --vtk` and `ffr modes --vtk` read back by VTK's own XML readers
-(the `vtk` package): the axis points are the scene's position outputs at
-those points, the `.pvd` times are the run's times, `--every` bounds the
+(the `vtk` package): the axis points and FE nodes are the scene's position
+outputs at those points, the `.pvd` times are the run's times, `--every` bounds the
 files, the files are deterministic, and nothing that is not a file ffr wrote
 is replaced (see docs/vtk.md)."""
 
@@ -277,6 +277,190 @@ def test_campbell_animations_at_rest_are_the_modes(ffr_bin, tmp_path):
             peak = max(peak, np.max(np.linalg.norm(a["displacement"][a["kind"] == 1], axis=1)))
         assert 0.1 * length * math.cos(math.pi / FRAMES) * (1 - 1e-9) <= peak <= 0.1 * length * (1 + 1e-9)
     assert (out / "spin_up_speed02_mode02.pvd").exists()
+
+
+# The FE pendulum (tests/data/fe/pendulum.toml: the solid cantilever, 99
+# nodes, clamped to the nine nodes of its face x = 0, pinned there and
+# swinging under gravity) for 0.03 s, its stiffness scaled down 100 times so
+# the elastic displacement (up to 7.6e-4 m here) is far above round-off of
+# the 1 m positions, with position outputs at some nodes and the deflection of
+# the tip node.
+FE = ROOT / "tests" / "data" / "fe"
+FE_NODES = [0, 33, 40, 64, 98]  # an interface node, inner nodes, the tip (64), the last
+FE_TIP = 64
+
+
+def fe_nodes():
+    """The cantilever's node coordinates (body frame), read from its node
+    file."""
+    with open(FE / "cantilever_nodes.csv", newline="") as f:
+        rows = list(csv.reader(f))
+    assert rows[0] == ["x", "y", "z"]
+    return np.array([[float(x) for x in r] for r in rows[1:]])
+
+
+def fe_pendulum(tmp_path):
+    text = (FE / "pendulum.toml").read_text()
+    spec = tomllib.loads(text)
+    assert spec["t_end"] == 1.0 and spec["dt"] == 1e-3
+    text = text.replace("t_end = 1.0\n", "t_end = 0.03\n")
+    for key in ("nodes", "mass", "stiffness"):
+        name = spec["bodies"]["bar"]["fe"][key]
+        text = text.replace(f'{key} = "{name}"', f"{key} = {json.dumps(str(FE / name))}")
+    text = text.replace("cantilever_stiffness.mtx\" }", "cantilever_stiffness.mtx\", stiffness_scale = 0.01 }")
+    assert "stiffness_scale = 0.01" in text
+    for n in FE_NODES:
+        for c in "xyz":
+            text += f'\n[[outputs]]\nname = "n{n}_{c}"\nkind = "position"\nat = "bar@node={n}"\ncomponent = "{c}"\n'
+    for c in "xyz":
+        text += f'\n[[outputs]]\nname = "d{FE_TIP}_{c}"\nkind = "deflection"\nat = "bar@node={FE_TIP}"\ncomponent = "{c}"\n'
+    path = tmp_path / "fe_pendulum.toml"
+    path.write_text(text)
+    return path
+
+
+def test_fe_nodes_are_the_node_outputs(ffr_bin, tmp_path):
+    """An FE body is drawn as its nodes (vertices, in node order, `node` =
+    the node's number): at every written step a node's point is the scene's
+    position output at `bar@node=N` to round-off; the points are the
+    undeformed nodes turned by the body's axes (`axis_x/y/z`), moved with the
+    frame, plus `displacement`; the tip's `displacement` is its `deflection`
+    output (body frame) turned into global axes; no section rotation."""
+    scene = fe_pendulum(tmp_path)
+    every = 4
+    out = tmp_path / "vtk"
+    r = run_ffr(ffr_bin, "run", scene, "--csv", tmp_path / "o.csv", "--vtk", out, "--every", every)
+    assert r.returncode == 0, r.stderr
+    cols = read_csv(tmp_path / "o.csv")
+    t = cols["t"]
+    times, files = read_pvd(out / "fe_pendulum.pvd")
+    rows = list(range(0, len(t), every))
+    assert len(t) == 31 and len(files) == math.ceil(len(t) / every) == len(rows)
+    assert times == [t[i] for i in rows]
+    x0 = fe_nodes()
+    largest = 0.0
+    for f, i in zip(files, rows):
+        pts, a, poly = read_vtp(out / f)
+        bar = (a["body"] == 0) & (a["node"] >= 0)
+        # 99 nodes as vertices (and one joint), no polyline
+        assert bar.sum() == len(x0) == 99
+        assert np.array_equal(a["node"][bar], np.arange(99))
+        assert np.all(a["kind"][bar] == 1) and np.all(a["x"][bar] == 0)
+        assert poly.GetNumberOfVerts() == 100 and poly.GetNumberOfLines() == 0
+        assert np.all(a["node"][~bar] == -1)
+        p = pts[bar]
+        for n in FE_NODES:
+            want = np.array([cols[f"n{n}_{c}"][i] for c in "xyz"])
+            assert np.max(np.abs(p[n] - want)) <= 1e-15 * (1 + np.max(np.abs(want))), (f, n)
+        # the frame's axes (the same at every node: nodes do not turn)
+        axes = np.stack([a[f"axis_{c}"][bar] for c in "xyz"], axis=2)  # [node, component, axis]
+        assert np.max(np.abs(axes - axes[0])) == 0
+        rot = axes[0]
+        assert np.max(np.abs(rot.T @ rot - np.eye(3))) <= 1e-12
+        assert np.max(np.abs(a["rotation"][bar])) == 0
+        d = a["displacement"][bar]
+        # interface nodes (clamped) do not move relative to the frame
+        assert np.max(np.abs(d[[0, 1, 2, 33, 34, 35, 66, 67, 68]])) == 0
+        origin = p - d - x0 @ rot.T
+        assert np.max(np.abs(origin - origin[0])) <= 1e-14
+        defl = np.array([cols[f"d{FE_TIP}_{c}"][i] for c in "xyz"])
+        assert np.max(np.abs(d[FE_TIP] - rot @ defl)) <= 1e-15 + 1e-12 * np.max(np.abs(defl))
+        largest = max(largest, np.max(np.linalg.norm(d, axis=1)))
+    # the elastic part (7.6e-4 m at the tip) is far above the tolerances
+    # above: they test it
+    assert largest > 1e-4
+
+
+def test_fe_series_is_deterministic(ffr_bin, tmp_path):
+    scene = fe_pendulum(tmp_path)
+    dirs = [tmp_path / "a", tmp_path / "b"]
+    for i, d in enumerate(dirs):
+        r = run_ffr(ffr_bin, "run", scene, "--csv", tmp_path / f"o{i}.csv", "--vtk", d, "--every", 10)
+        assert r.returncode == 0, r.stderr
+    names = sorted(os.listdir(dirs[0]))
+    assert names == sorted(os.listdir(dirs[1])) and len(names) == 5
+    for n in names:
+        assert (dirs[0] / n).read_bytes() == (dirs[1] / n).read_bytes(), n
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--count", "3"],  # clamped normal modes
+        ["--count", "1", "--boundary", "64"],  # Craig–Bampton: 1 normal mode, 3 constraint modes
+    ],
+)
+def test_fe_mode_animations_are_phi_scaled_as_documented(ffr_bin, tmp_path, args):
+    """`ffr modes --scene … --body <FE body> --vtk`: in frame k of mode j the
+    displacement of node N is a cos(2πk/24) (phi[ux_N][j], phi[uy_N][j],
+    phi[uz_N][j]) (zero for a clamped interface node), a making the largest
+    node displacement 10 % of the body's size (the longest side of its
+    nodes' bounding box: 1 m); the points are the nodes plus it."""
+    out = tmp_path / "modes"
+    r = run_ffr(ffr_bin, "modes", "--scene", FE / "pendulum.toml", "--body", "bar", *args, "--json", "--vtk", out)
+    assert r.returncode == 0, r.stderr
+    m = json.loads(r.stdout)
+    phi, dofs = np.array(m["phi"]), m["dofs"]
+    x0 = fe_nodes()
+    size = np.max(np.ptp(x0, axis=0))
+    assert size == 1.0
+    count = len(m["labels"])
+    assert count == (3 if "--boundary" not in args else 4)
+    assert sorted(os.listdir(out)) == sorted(
+        [f"bar_mode{j + 1:02}.pvd" for j in range(count)]
+        + [f"bar_mode{j + 1:02}_{k:02}.vtp" for j in range(count) for k in range(FRAMES)]
+    )
+    for j in range(count):
+        t = np.zeros((len(x0), 3))
+        for n in range(len(x0)):
+            for c, axis in enumerate("xyz"):
+                if f"u{axis}_{n}" in dofs:
+                    t[n, c] = phi[dofs.index(f"u{axis}_{n}"), j]
+        scale = 0.1 * size / np.max(np.linalg.norm(t, axis=1))
+        times, files = read_pvd(out / f"bar_mode{j + 1:02}.pvd")
+        assert len(files) == FRAMES
+        # a constraint mode has no frequency: its times are fractions of 1
+        period = 2 * math.pi / m["omega"][j] if j < len(m["omega"]) else 1.0
+        assert np.allclose(times, [period * k / FRAMES for k in range(FRAMES)], rtol=1e-15, atol=0)
+        for k, f in enumerate(files):
+            pts, a, poly = read_vtp(out / f)
+            assert np.array_equal(a["node"], np.arange(len(x0)))
+            assert np.all(a["kind"] == 1) and poly.GetNumberOfVerts() == len(x0)
+            want = scale * math.cos(2 * math.pi * k / FRAMES) * t
+            assert np.max(np.abs(a["displacement"] - want)) <= 1e-14 * size
+            assert np.max(np.abs(pts - x0 - a["displacement"])) <= 1e-15 * size
+            assert np.max(np.abs(a["rotation"])) == 0
+        _, a, _ = read_vtp(out / files[0])
+        assert abs(np.max(np.linalg.norm(a["displacement"], axis=1)) - 0.1 * size) <= 1e-14
+
+
+def test_fe_campbell_animations_draw_the_nodes(ffr_bin, tmp_path):
+    """`ffr campbell --vtk` on a scene with an FE body (the FE pendulum
+    without gravity, its revolute joint driven): the nodes are drawn, and at
+    Ω = 0 the largest node displacement over the period is 10 % of the
+    body's size (1 m) up to the 24-frame sampling of the phase."""
+    text = (FE / "pendulum.toml").read_text()
+    for key in ("nodes", "mass", "stiffness"):
+        name = f"cantilever_{key}.{'csv' if key == 'nodes' else 'mtx'}"
+        text = text.replace(f'"{name}"', json.dumps(str(FE / name)))
+    text = text.replace("gravity = [0.0, -9.81, 0.0]", "gravity = [0.0, 0.0, 0.0]")
+    text = text.replace('b = "bar"\n', 'b = "bar"\ndrive = { angle = "spin-up", omega = 4.0, ramp = 15.0 }\n')
+    assert "drive" in text and "9.81" not in text
+    scene = tmp_path / "rotor.toml"
+    scene.write_text(text)
+    out = tmp_path / "campbell"
+    r = run_ffr(ffr_bin, "campbell", scene, "--speeds", "0", "--count", "2", "--vtk", out)
+    assert r.returncode == 0, r.stderr
+    for j in range(2):
+        _, files = read_pvd(out / f"rotor_speed01_mode{j + 1:02}.pvd")
+        assert len(files) == FRAMES
+        peak = 0.0
+        for f in files:
+            _, a, _ = read_vtp(out / f)
+            bar = a["node"] >= 0
+            assert np.array_equal(a["node"][bar], np.arange(99))
+            peak = max(peak, np.max(np.linalg.norm(a["displacement"][bar], axis=1)))
+        assert 0.1 * math.cos(math.pi / FRAMES) * (1 - 1e-9) <= peak <= 0.1 * (1 + 1e-9)
 
 
 def test_python_run_writes_the_command_lines_series(ffr_bin, tmp_path):

@@ -8,20 +8,27 @@
 //!   nodes and [`POINTS_BETWEEN_NODES`] points between each pair, each
 //!   point placed by the body's point shape ([`crate::runtime::Body::point_shape`],
 //!   the same evaluation as the scene's position outputs);
+//! - every finite-element body's nodes as vertices, each placed by the
+//!   body's node shape ([`crate::runtime::Body::node_shape`], the same
+//!   evaluation as the scene's outputs at `NAME@node=N`);
 //! - every rigid body as one vertex at its frame's origin, and every joint
 //!   (constraint) as one vertex at its marker `a`.
 //!
 //! Point data (one value per point): `displacement` (the elastic
 //! displacement `A Σ s_j q_j`, global axes), `rotation` (the section's small
-//! rotation `A ψ`, global axes), `axis_x`, `axis_y`, `axis_z` (the section's
-//! axes `A (e_k + ψ × e_k)`; a rigid body's or joint marker's axes), `x`
-//! (the point's place on the undeformed axis; 0 for vertices), `body` (the
-//! body's index in the scene, -1 for a joint) and `kind` (0 a point between
-//! nodes, 1 a node, 2 a rigid body's frame, 3 a joint).
+//! rotation `A ψ`, global axes; 0 at an FE node, which has no rotation),
+//! `axis_x`, `axis_y`, `axis_z` (the section's axes `A (e_k + ψ × e_k)`; a
+//! rigid body's, an FE body's or a joint marker's axes), `x` (the point's
+//! place on the undeformed axis; 0 for vertices), `body` (the body's index
+//! in the scene, -1 for a joint) and `kind` (0 a point between nodes, 1 a
+//! node, 2 a rigid body's frame, 3 a joint). A file that draws an FE body
+//! has one more array, `node`: an FE node's number, -1 for every other
+//! point (a file without FE bodies has none, so beams' files are as they
+//! were).
 //!
-//! The points of a body come from a [`DrawnBody`]: a beam's axis today; a
-//! body of nodes (a finite-element body) adds its nodes as points with
-//! [`Drawn::Nodes`] (drawn as vertices, no polyline).
+//! The points of a body come from a [`DrawnBody`]: a beam's axis
+//! ([`Drawn::Axis`], one polyline), an FE body's nodes ([`Drawn::Nodes`],
+//! vertices, no polyline), a rigid body's frame or a joint.
 //!
 //! Files: `DIR/<name>.pvd` and `DIR/<name>_<step>.vtp`. Each is written to
 //! a temporary file in `DIR` and renamed over its target. An existing file
@@ -32,7 +39,7 @@
 use super::model::Scene;
 use crate::runtime::marker::{BodyId, Marker, MarkerKin};
 use crate::runtime::nalgebra::{Complex, Vector3};
-use crate::runtime::{Body, System};
+use crate::runtime::{Body, PointShape, System};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use vtkio::model::{
@@ -78,7 +85,8 @@ impl VtkOptions {
 pub enum Drawn {
     /// A beam's axis: one polyline through its points in order.
     Axis,
-    /// A body of nodes (finite elements): its points as vertices.
+    /// A body of nodes (finite elements): its points, the nodes `0, 1, …`
+    /// in order, as vertices.
     Nodes,
     /// A rigid body: its frame's origin as one vertex.
     Frame,
@@ -152,15 +160,34 @@ pub fn axis_points(nodes: &[f64]) -> Vec<(f64, bool)> {
     xs
 }
 
-/// What a scene draws: its flexible bodies' axes (in body order), its rigid
-/// bodies' frames, its joints.
+/// What a scene draws: its flexible bodies' axes and FE bodies' nodes (in
+/// body order), its rigid bodies' frames, its joints.
 pub fn drawing(scene: &Scene) -> crate::Result<Vec<DrawnBody>> {
     let sys = &scene.system;
     let mut out = Vec::new();
     for (i, e) in sys.bodies().iter().enumerate() {
         let id = BodyId(i);
         let rigid = |u0: Vector3<f64>| Marker::at(id, u0);
-        if let Some(f) = scene.flex.iter().find(|f| f.name == e.name) {
+        let nodes = e.body.node_count();
+        if nodes > 0 {
+            let mut points = Vec::with_capacity(nodes);
+            for n in 0..nodes {
+                let marker = sys.node(id, n)?;
+                let frame = rigid(Vector3::from(marker.shape.u0));
+                points.push(DrawnPoint {
+                    marker,
+                    frame,
+                    x: 0.0,
+                    node: true,
+                });
+            }
+            out.push(DrawnBody {
+                name: e.name.clone(),
+                body: Some(id),
+                kind: Drawn::Nodes,
+                points,
+            });
+        } else if let Some(f) = scene.flex.iter().find(|f| f.name == e.name) {
             let mut points = Vec::new();
             for (x, node) in axis_points(&node_xs(f)) {
                 let marker = sys.point(id, x)?;
@@ -259,10 +286,13 @@ impl Frames {
 
     /// The drawing at the coordinates `q`, as one PolyData piece.
     pub fn piece(&mut self, q: &[f64]) -> PolyDataPiece {
-        let mut out = Piece::default();
+        let mut out = Piece {
+            fe_nodes: self.bodies.iter().any(|b| b.kind == Drawn::Nodes),
+            ..Piece::default()
+        };
         for (b, kins) in self.bodies.iter().zip(&mut self.kins) {
             let first = out.len();
-            for (p, (k, k0)) in b.points.iter().zip(kins.iter_mut()) {
+            for (n, (p, (k, k0))) in b.points.iter().zip(kins.iter_mut()).enumerate() {
                 k.eval(&p.marker, q);
                 k0.eval(&p.frame, q);
                 // The frame's axes (columns of A) at the point.
@@ -282,6 +312,7 @@ impl Frames {
                     x: p.x,
                     body: b.body.map_or(-1, |id| id.0 as i32),
                     kind: kind_code(b.kind, p.node),
+                    node: fe_node(b.kind, n),
                 });
             }
             out.cell(b.kind, first);
@@ -300,6 +331,15 @@ fn kind_code(kind: Drawn, node: bool) -> i32 {
     }
 }
 
+/// The `node` point value: an FE body's `n`-th point is its node `n`; -1
+/// for every other point.
+fn fe_node(kind: Drawn, n: usize) -> i32 {
+    match kind {
+        Drawn::Nodes => i32::try_from(n).unwrap_or(i32::MAX),
+        Drawn::Axis | Drawn::Frame | Drawn::Joint => -1,
+    }
+}
+
 /// One point's values (global axes).
 struct PointValues {
     pos: Vector3<f64>,
@@ -309,11 +349,15 @@ struct PointValues {
     x: f64,
     body: i32,
     kind: i32,
+    node: i32,
 }
 
 /// A PolyData piece being assembled: point values, then each body's cell.
+/// With `fe_nodes` (the piece draws an FE body) it has the point array
+/// `node`.
 #[derive(Default)]
 struct Piece {
+    fe_nodes: bool,
     points: Vec<f64>,
     disp: Vec<f64>,
     rot: Vec<f64>,
@@ -321,6 +365,7 @@ struct Piece {
     xs: Vec<f64>,
     body: Vec<i32>,
     kind: Vec<i32>,
+    node: Vec<i32>,
     lines: (Vec<u64>, Vec<u64>),
     verts: (Vec<u64>, Vec<u64>),
 }
@@ -340,6 +385,7 @@ impl Piece {
         self.xs.push(p.x);
         self.body.push(p.body);
         self.kind.push(p.kind);
+        self.node.push(p.node);
     }
 
     /// The points from `first` on as one body drawn as `kind`.
@@ -384,6 +430,19 @@ impl Piece {
                 offsets: off,
             })
         };
+        let mut point = vec![
+            vectors("displacement", self.disp),
+            vectors("rotation", self.rot),
+            vectors("axis_x", ax),
+            vectors("axis_y", ay),
+            vectors("axis_z", az),
+            scalars("x", self.xs.into()),
+            scalars("body", self.body.into()),
+            scalars("kind", self.kind.into()),
+        ];
+        if self.fe_nodes {
+            point.push(scalars("node", self.node.into()));
+        }
         PolyDataPiece {
             points: self.points.into(),
             verts: cells(self.verts),
@@ -391,16 +450,7 @@ impl Piece {
             polys: None,
             strips: None,
             data: Attributes {
-                point: vec![
-                    vectors("displacement", self.disp),
-                    vectors("rotation", self.rot),
-                    vectors("axis_x", ax),
-                    vectors("axis_y", ay),
-                    vectors("axis_z", az),
-                    scalars("x", self.xs.into()),
-                    scalars("body", self.body.into()),
-                    scalars("kind", self.kind.into()),
-                ],
+                point,
                 cell: Vec::new(),
             },
         }
@@ -689,9 +739,9 @@ impl VtkSeries {
 pub const FRAMES_PER_PERIOD: usize = 24;
 
 /// A mode shape's amplitude in its animation: the largest node
-/// displacement is this fraction of the body's length (a mode that moves no
-/// node, only rotates sections: the largest section rotation is this many
-/// radians).
+/// displacement is this fraction of the body's length (an FE body's: its
+/// [`nodes_size`]; a mode that moves no node, only rotates sections: the
+/// largest section rotation is this many radians).
 pub const MODE_AMPLITUDE: f64 = 0.1;
 
 /// One mode to animate: its label, its angular frequency (rad/s; `None`
@@ -731,7 +781,11 @@ pub fn mode_scale(body: &dyn Body, nodes: &[f64], length: f64, phi: &[f64]) -> c
 
 /// `(Σ s_j φ_j, Σ ψ_j φ_j)` at `x` (body axes).
 fn shape_at(body: &dyn Body, x: f64, phi: &[f64]) -> crate::Result<(Vector3<f64>, Vector3<f64>)> {
-    let s = body.point_shape(x)?;
+    shape_values(&body.point_shape(x)?, phi)
+}
+
+/// `(Σ s_j φ_j, Σ ψ_j φ_j)` of the point shape `s` (body axes).
+fn shape_values(s: &PointShape, phi: &[f64]) -> crate::Result<(Vector3<f64>, Vector3<f64>)> {
     let (mut u, mut r) = (Vector3::zeros(), Vector3::zeros());
     for (dof, sj, pj) in &s.entries {
         let v = phi.get(*dof).copied().ok_or_else(|| {
@@ -801,15 +855,143 @@ pub fn write_modes(
     modes: &[ModeShape],
 ) -> crate::Result<Vec<VtkWritten>> {
     let name = series_name(name);
-    let (stem, frame_file) = mode_names(&name, modes.len());
     check_mode_files(dir, &name, modes.len())?;
     let xs = axis_points(nodes);
     let scales = modes
         .iter()
         .map(|m| mode_scale(body, nodes, length, &m.phi))
         .collect::<crate::Result<Vec<f64>>>()?;
+    animate_modes(dir, &name, modes, &scales, |mode, a| {
+        let mut piece = Piece::default();
+        for &(x, node) in &xs {
+            let u0 = Vector3::from(body.point_shape(x)?.u0);
+            let (u, r) = shape_at(body, x, &mode.phi)?;
+            piece.push(mode_point(u0, u * a, r * a, x, node, -1));
+        }
+        piece.cell(Drawn::Axis, 0);
+        Ok(piece)
+    })
+}
+
+/// The size of a body of nodes (an FE body): the longest side of its nodes'
+/// bounding box in body axes (1 if the nodes coincide, or it has none).
+pub fn nodes_size(body: &dyn Body) -> crate::Result<f64> {
+    let (mut lo, mut hi) = (
+        Vector3::repeat(f64::INFINITY),
+        Vector3::repeat(f64::NEG_INFINITY),
+    );
+    for n in 0..body.node_count() {
+        let u0 = Vector3::from(body.node_shape(n)?.u0);
+        lo = lo.inf(&u0);
+        hi = hi.sup(&u0);
+    }
+    let size = (hi - lo).max();
+    Ok(if size > 0.0 && size.is_finite() {
+        size
+    } else {
+        1.0
+    })
+}
+
+/// Write one animation per mode of an FE body (a body of nodes,
+/// [`Body::node_count`] > 0), as [`write_modes`] does for a beam: the body in
+/// its own frame, its nodes as vertices placed by their node shapes
+/// (`x̄_N + a cos(2π k / FRAMES_PER_PERIOD) Φ_N φ`), point data as in a run
+/// (with `node`). The scale `a` makes the largest node displacement
+/// [`MODE_AMPLITUDE`] × [`nodes_size`]. Every file is checked
+/// ([`check_ours`]) before any is written.
+pub fn write_node_modes(
+    dir: &Path,
+    name: &str,
+    body: &dyn Body,
+    modes: &[ModeShape],
+) -> crate::Result<Vec<VtkWritten>> {
+    let name = series_name(name);
+    check_mode_files(dir, &name, modes.len())?;
+    let shapes = (0..body.node_count())
+        .map(|n| body.node_shape(n))
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    if shapes.is_empty() {
+        return Err(crate::Error::Invalid(
+            "the body has no nodes to draw its modes at".into(),
+        ));
+    }
+    let size = nodes_size(body)?;
+    let scales = modes
+        .iter()
+        .map(|m| {
+            let mut umax = 0.0f64;
+            for s in &shapes {
+                umax = umax.max(shape_values(s, &m.phi)?.0.norm());
+            }
+            if umax > 0.0 {
+                Ok(MODE_AMPLITUDE * size / umax)
+            } else {
+                Err(crate::Error::Invalid(
+                    "a mode that moves no node: nothing to animate".into(),
+                ))
+            }
+        })
+        .collect::<crate::Result<Vec<f64>>>()?;
+    animate_modes(dir, &name, modes, &scales, |mode, a| {
+        let mut piece = Piece {
+            fe_nodes: true,
+            ..Piece::default()
+        };
+        for (n, s) in shapes.iter().enumerate() {
+            let (u, r) = shape_values(s, &mode.phi)?;
+            let node = fe_node(Drawn::Nodes, n);
+            piece.push(mode_point(
+                Vector3::from(s.u0),
+                u * a,
+                r * a,
+                0.0,
+                true,
+                node,
+            ));
+        }
+        piece.cell(Drawn::Nodes, 0);
+        Ok(piece)
+    })
+}
+
+/// A point of a mode's frame (body 0): at `u0 + u`, section axes turned by
+/// `r`.
+fn mode_point(
+    u0: Vector3<f64>,
+    u: Vector3<f64>,
+    r: Vector3<f64>,
+    x: f64,
+    node: bool,
+    fe_node: i32,
+) -> PointValues {
+    let e = [Vector3::x(), Vector3::y(), Vector3::z()];
+    PointValues {
+        pos: u0 + u,
+        displacement: u,
+        rotation: r,
+        axes: e.map(|c| c + r.cross(&c)),
+        x,
+        body: 0,
+        kind: i32::from(node),
+        node: fe_node,
+    }
+}
+
+/// Write the animations of `modes` named `name` (files checked already):
+/// frame `k` of mode `j` is `piece(mode, scales[j] cos(2π k /
+/// FRAMES_PER_PERIOD))` at time `k T / FRAMES_PER_PERIOD`, `T = 2π/ω` (1
+/// without `ω`).
+fn animate_modes(
+    dir: &Path,
+    name: &str,
+    modes: &[ModeShape],
+    scales: &[f64],
+    mut piece: impl FnMut(&ModeShape, f64) -> crate::Result<Piece>,
+) -> crate::Result<Vec<VtkWritten>> {
+    let (stem, frame_file) = mode_names(name, modes.len());
     let mut written = Vec::with_capacity(modes.len());
-    for ((j, mode), scale) in modes.iter().enumerate().zip(scales) {
+    for ((j, mode), &scale) in modes.iter().enumerate().zip(scales) {
         let period = mode
             .omega
             .filter(|w| *w > 0.0 && w.is_finite())
@@ -818,25 +1000,9 @@ pub fn write_modes(
         for k in 0..FRAMES_PER_PERIOD {
             let phase = std::f64::consts::TAU * k as f64 / FRAMES_PER_PERIOD as f64;
             let a = scale * phase.cos();
-            let mut piece = Piece::default();
-            for &(x, node) in &xs {
-                let u0 = Vector3::from(body.point_shape(x)?.u0);
-                let (u, r) = shape_at(body, x, &mode.phi)?;
-                let (u, r) = (u * a, r * a);
-                let e = [Vector3::x(), Vector3::y(), Vector3::z()];
-                piece.push(PointValues {
-                    pos: u0 + u,
-                    displacement: u,
-                    rotation: r,
-                    axes: e.map(|c| c + r.cross(&c)),
-                    x,
-                    body: 0,
-                    kind: i32::from(node),
-                });
-            }
-            piece.cell(Drawn::Axis, 0);
             let file = frame_file(j, k);
-            write_atomic(&dir.join(&file), &vtp_text(piece.finish())?)?;
+            let text = vtp_text(piece(mode, a)?.finish())?;
+            write_atomic(&dir.join(&file), &text)?;
             steps.push((period * k as f64 / FRAMES_PER_PERIOD as f64, file));
         }
         let pvd = dir.join(format!("{}.pvd", stem(j)));
@@ -860,8 +1026,9 @@ pub type ModeVector = [(usize, Complex<f64>)];
 /// `DIR/<name>_mode<j>.pvd` and `DIR/<name>_mode<j>_<k>.vtp`. The scale `a`:
 /// the largest elastic displacement of a node (see
 /// [`Frames::elastic_amplitude`]) is [`MODE_AMPLITUDE`] × the longest
-/// flexible body's length; a mode without elastic motion: its largest
-/// coordinate is [`MODE_AMPLITUDE`] × that length (m, or rad for angles).
+/// flexible body's length (an FE body's: its [`nodes_size`]); a mode
+/// without elastic motion: its largest coordinate is [`MODE_AMPLITUDE`] ×
+/// that length (m, or rad for angles).
 /// Every file is checked ([`check_ours`]) before any is written.
 pub fn write_linear_modes(
     dir: &Path,
@@ -873,11 +1040,16 @@ pub fn write_linear_modes(
     let name = series_name(name);
     let (stem, frame_file) = mode_names(&name, modes.len());
     check_mode_files(dir, &name, modes.len())?;
-    let length = scene
+    let mut length = scene
         .flex
         .iter()
         .map(|f| f.params.length)
         .fold(0.0f64, f64::max);
+    for e in scene.system.bodies() {
+        if e.body.node_count() > 0 {
+            length = length.max(nodes_size(e.body.as_ref())?);
+        }
+    }
     let length = if length > 0.0 { length } else { 1.0 };
     let mut frames = Frames::new(&scene.system, drawing(scene)?);
     let n = q0.len();

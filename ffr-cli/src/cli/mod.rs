@@ -80,7 +80,8 @@ pub enum Command {
         json: bool,
         /// Write each mode as a ParaView animation over one period into DIR
         /// (DIR/NAME_modeJ.pvd; largest node displacement 10 % of the body's
-        /// length; see docs/vtk.md).
+        /// length, an FE body's nodes' bounding box's longest side; see
+        /// docs/vtk.md).
         #[arg(long, value_name = "DIR")]
         vtk: Option<PathBuf>,
     },

@@ -241,6 +241,35 @@ pub fn write_mode_animations(
     )?)
 }
 
+/// Write each mode of an FE body's `basis` as an animation into `dir` (see
+/// [`ffr::scene::vtk::write_node_modes`]: the nodes drawn by the node shapes
+/// of the body on its nodal coordinates, the rows of `phi`); `name` names
+/// the files.
+pub fn write_fe_mode_animations(
+    dir: &Path,
+    name: &str,
+    fe: &ffr::codegen::fe::FeBody,
+    basis: &ModalBasis,
+) -> Result<Vec<ffr::scene::vtk::VtkWritten>, Box<dyn Error>> {
+    use ffr::scene::vtk::{write_node_modes, ModeShape};
+    let nodes = fe.model.nodes.iter().map(|p| [p.x, p.y, p.z]).collect();
+    let body = ffr::runtime::NodalBody::new(
+        to_runtime(&fe.invariants),
+        nodes,
+        &fe.dofs,
+        fe.dof_names.clone(),
+        ffr::fe::describe(fe),
+    )?;
+    let modes: Vec<ModeShape> = (0..basis.len())
+        .map(|j| ModeShape {
+            label: basis.labels[j].clone(),
+            omega: basis.frequencies.get(j).copied(),
+            phi: basis.phi.column(j).iter().copied().collect(),
+        })
+        .collect();
+    Ok(write_node_modes(dir, name, &body, &modes)?)
+}
+
 /// `ffr modes`: print the frequencies (or, with `json`, the whole reduction).
 /// A scene's FE body (`--scene … --body …`) is reduced on its FE nodes
 /// (`--boundary`: FE node indices).
@@ -253,7 +282,8 @@ pub fn modes(
     json: bool,
     vtk: Option<&Path>,
 ) -> Result<(), Box<dyn Error>> {
-    // With --vtk, each mode as an animation (beams; FE bodies are refused).
+    // With --vtk, each mode as an animation (beams here; FE bodies with
+    // write_fe_mode_animations).
     let write_vtk = |b: &ReducibleBody,
                      drawn: DrawnBeam,
                      name: &str,
@@ -279,56 +309,60 @@ pub fn modes(
         }
         Ok(())
     };
-    let (description, dofs, invariants, basis, free) = match (
-        &from_scene.scene,
-        &from_scene.body_name,
-    ) {
-        (Some(path), Some(name)) => {
-            let scene = ffr::scene::load(path)?;
-            match fe_from_scene(&scene, name)? {
-                Some(fe) => {
-                    if vtk.is_some() {
-                        return Err(format!(
-                                "--vtk: `{name}` is an FE body; mode animations are written for beams only"
-                            )
-                            .into());
+    let (description, dofs, invariants, basis, free) =
+        match (&from_scene.scene, &from_scene.body_name) {
+            (Some(path), Some(name)) => {
+                let scene = ffr::scene::load(path)?;
+                match fe_from_scene(&scene, name)? {
+                    Some(fe) => {
+                        let basis = fe_basis(&fe, count, boundary, "--count")?;
+                        if let Some(dir) = vtk {
+                            let written = write_fe_mode_animations(dir, name, &fe, &basis)?;
+                            if !json {
+                                crate::outln!(
+                                    "wrote {} mode animations ({} frames each) to {}: {}_mode*.pvd",
+                                    written.len(),
+                                    ffr::scene::vtk::FRAMES_PER_PERIOD,
+                                    dir.display(),
+                                    ffr::scene::vtk::series_name(name)
+                                )?;
+                            }
+                        }
+                        let free = fe.reference == ffr::codegen::fe::FeReference::Free;
+                        (
+                            ffr::fe::describe(&fe),
+                            fe.dof_names,
+                            fe.invariants,
+                            basis,
+                            free,
+                        )
                     }
-                    let basis = fe_basis(&fe, count, boundary, "--count")?;
-                    let free = fe.reference == ffr::codegen::fe::FeReference::Free;
-                    (
-                        ffr::fe::describe(&fe),
-                        fe.dof_names,
-                        fe.invariants,
-                        basis,
-                        free,
-                    )
-                }
-                None => {
-                    let (b, drawn) = reducible_from_scene(scene, name)?;
-                    let basis = b.reduce(count, boundary, "--count")?;
-                    write_vtk(&b, drawn, name, &basis)?;
-                    let free = b.spec.reference == Reference::Free;
-                    (b.description(), b.dofs, b.invariants, basis, free)
+                    None => {
+                        let (b, drawn) = reducible_from_scene(scene, name)?;
+                        let basis = b.reduce(count, boundary, "--count")?;
+                        write_vtk(&b, drawn, name, &basis)?;
+                        let free = b.spec.reference == Reference::Free;
+                        (b.description(), b.dofs, b.invariants, basis, free)
+                    }
                 }
             }
-        }
-        _ => {
-            let b = reducible(body, params)?;
-            let basis = b.reduce(count, boundary, "--count")?;
-            if vtk.is_some() {
-                let drawn = DrawnBeam::Beam(beam_of(
-                    &body.shape,
-                    body.elements as usize,
-                    body.reference,
-                    body.formalism,
-                    params.values(),
-                )?);
-                write_vtk(&b, drawn, &body.shape, &basis)?;
+            _ => {
+                let b = reducible(body, params)?;
+                let basis = b.reduce(count, boundary, "--count")?;
+                if vtk.is_some() {
+                    let drawn = DrawnBeam::Beam(beam_of(
+                        &body.shape,
+                        body.elements as usize,
+                        body.reference,
+                        body.formalism,
+                        params.values(),
+                    )?);
+                    write_vtk(&b, drawn, &body.shape, &basis)?;
+                }
+                let free = b.spec.reference == Reference::Free;
+                (b.description(), b.dofs, b.invariants, basis, free)
             }
-            let free = b.spec.reference == Reference::Free;
-            (b.description(), b.dofs, b.invariants, basis, free)
-        }
-    };
+        };
     if json {
         crate::outln!(
             "{}",
