@@ -4,31 +4,11 @@
 //! column or with a bad row is an error naming the file.
 
 mod common;
-use common::cli::ffr;
-use std::path::{Path, PathBuf};
-
-fn temp_dir(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ffr-ref-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn scene(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../scenes")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+use common::cli::{ffr, s, scene, temp_dir};
 
 #[test]
 fn a_reference_is_overlaid_and_its_difference_printed() {
-    let dir = temp_dir("overlay");
+    let dir = temp_dir("ref", "overlay");
     let csv = dir.join("o.csv");
     let (ok, _, err) = ffr(&["run", &scene("spin_up.toml"), "--csv", s(&csv)]);
     assert!(ok, "{err}");
@@ -80,7 +60,7 @@ fn a_reference_is_overlaid_and_its_difference_printed() {
 
 #[test]
 fn a_reference_without_a_matching_column_or_with_a_bad_row_is_refused() {
-    let dir = temp_dir("bad");
+    let dir = temp_dir("ref", "bad");
     let rf = dir.join("ref.csv");
     std::fs::write(&rf, "t,nothing\n0,1\n").unwrap();
     let csv = dir.join("o.csv");
@@ -117,7 +97,7 @@ fn a_reference_without_a_matching_column_or_with_a_bad_row_is_refused() {
 #[test]
 fn the_plot_names_the_units_of_mixed_outputs() {
     // pendulum.toml records an angle, positions and deflections, energies.
-    let dir = temp_dir("units");
+    let dir = temp_dir("ref", "units");
     let svg = dir.join("p.svg");
     let (ok, _, err) = ffr(&[
         "run",

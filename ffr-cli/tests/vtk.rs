@@ -6,29 +6,9 @@
 //! python/tests/test_vtk.py.
 
 mod common;
-use common::cli::ffr;
+use common::cli::{ffr, s, scene, temp_dir};
 use ffr::scene::vtk::{VtkOptions, MARK, MAX_VTK_FILES};
-use std::path::{Path, PathBuf};
-
-/// A fresh temporary directory for one test.
-fn temp_dir(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ffr-vtk-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn scene(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../scenes")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+use std::path::Path;
 
 fn listing(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
@@ -41,7 +21,7 @@ fn listing(dir: &Path) -> Vec<String> {
 
 #[test]
 fn every_needs_vtk_and_is_at_least_one() {
-    let dir = temp_dir("flags");
+    let dir = temp_dir("vtk", "flags");
     let csv = dir.join("o.csv");
     let (ok, _, err) = ffr(&[
         "run",
@@ -71,7 +51,7 @@ fn every_needs_vtk_and_is_at_least_one() {
 
 #[test]
 fn a_directory_that_is_a_file_is_refused_before_the_run() {
-    let dir = temp_dir("file");
+    let dir = temp_dir("vtk", "file");
     let csv = dir.join("o.csv");
     let f = dir.join("f");
     std::fs::write(&f, "keep").unwrap();
@@ -91,7 +71,7 @@ fn a_directory_that_is_a_file_is_refused_before_the_run() {
 
 #[test]
 fn files_not_written_by_ffr_are_not_replaced() {
-    let dir = temp_dir("foreign");
+    let dir = temp_dir("vtk", "foreign");
     let v = dir.join("v");
     std::fs::create_dir_all(&v).unwrap();
     std::fs::write(v.join("spin_up.pvd"), "mine").unwrap();
@@ -158,7 +138,7 @@ fn files_not_written_by_ffr_are_not_replaced() {
 fn the_number_of_files_is_bounded() {
     // dt = 1e-3 over 20 s: 20001 samples, more than MAX_VTK_FILES; refused
     // before the run, with the smallest --every that fits.
-    let dir = temp_dir("bound");
+    let dir = temp_dir("vtk", "bound");
     let text = std::fs::read_to_string(scene("spin_up.toml"))
         .unwrap()
         .replace("dt = 0.01\n", "dt = 0.001\n");
@@ -184,7 +164,7 @@ fn the_number_of_files_is_bounded() {
 
 #[test]
 fn run_with_writes_one_file_per_every_samples_at_the_runs_times() {
-    let dir = temp_dir("lib");
+    let dir = temp_dir("vtk", "lib");
     let scene = ffr::scene::load(Path::new(&scene("two_link_arm.toml"))).unwrap();
     let mut options = ffr::scene::RunOptions::default();
     options.vtk = Some(VtkOptions {
@@ -238,7 +218,7 @@ fn fe_pendulum(path: &Path, t_end: &str) {
 
 #[test]
 fn fe_mode_animations_refuse_files_not_ours_and_keep_json_alone() {
-    let dir = temp_dir("fe-modes");
+    let dir = temp_dir("vtk", "fe-modes");
     let scene = dir.join("pendulum.toml");
     fe_pendulum(&scene, "1.0");
     let v = dir.join("v");
@@ -294,7 +274,7 @@ fn fe_mode_animations_refuse_files_not_ours_and_keep_json_alone() {
 
 #[test]
 fn run_with_draws_an_fe_body_as_its_nodes() {
-    let dir = temp_dir("fe-run");
+    let dir = temp_dir("vtk", "fe-run");
     let path = dir.join("pendulum.toml");
     fe_pendulum(&path, "0.002");
     let fe = ffr::scene::load(&path).unwrap();
