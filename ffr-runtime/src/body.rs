@@ -442,10 +442,10 @@ pub trait Body: Send + Sync {
 
     /// Element `e`'s scalars `z_e = S_e q_e` at the body coordinates
     /// `q_f`, into `z[..scalars]` (`z` has [`ScalarLayout::local`] entries).
-    /// Only for a body with a [`Body::scalar_layout`].
+    /// Only meaningful for a body with a [`Body::scalar_layout`]; the
+    /// default (no element scalars) leaves `z` untouched.
     fn element_scalars(&self, e: usize, q_f: &[f64], w: &mut BodyWork, z: &mut [f64]) {
         let _ = (e, q_f, w, z);
-        unimplemented!("element_scalars of a body without scalar_layout")
     }
 
     /// `g = ∂U_e/∂z` of element `e` at its scalars `z` (overwritten, `local`
