@@ -2,27 +2,17 @@
 the same table as the local engine (every column but cpu_s, bit for bit as
 written), and an unreachable scheduler is a clear error.
 
-The ffr binary is `target/release/ffr` (built by `.ci/run` before this
-step), or the path in the environment variable FFR_BIN.
+The ffr binary is the conftest's `ffr_bin` fixture: the release binary
+cargo builds (wherever CARGO_TARGET_DIR puts it), or $FFR_BIN if set.
 """
 
 import csv
-import os
 import socket
 import subprocess
 import sys
 from pathlib import Path
 
-import pytest
-
 ROOT = Path(__file__).resolve().parents[2]
-
-
-def ffr_binary():
-    path = Path(os.environ.get("FFR_BIN", ROOT / "target" / "release" / "ffr"))
-    if not path.is_file():
-        pytest.fail(f"no ffr binary at {path}: build it (cargo build --release) or set FFR_BIN")
-    return str(path)
 
 
 def write_study(tmp_path):
@@ -48,15 +38,15 @@ def table(path):
     return [r[:cpu] + r[cpu + 1 :] for r in rows]
 
 
-def sweep(*args):
-    return subprocess.run([ffr_binary(), "sweep", *map(str, args)], capture_output=True, text=True, timeout=600)
+def sweep(ffr_bin, *args):
+    return subprocess.run([str(ffr_bin), "sweep", *map(str, args)], capture_output=True, text=True, timeout=600)
 
 
-def test_dask_engine_gives_the_local_table(tmp_path):
+def test_dask_engine_gives_the_local_table(tmp_path, ffr_bin):
     from dask.distributed import LocalCluster
 
     study = write_study(tmp_path)
-    local = sweep(study, "--out", tmp_path / "local", "--workers", "2")
+    local = sweep(ffr_bin, study, "--out", tmp_path / "local", "--workers", "2")
     assert local.returncode == 0, local.stderr
     with LocalCluster(
         n_workers=2,
@@ -66,6 +56,7 @@ def test_dask_engine_gives_the_local_table(tmp_path):
         dashboard_address=None,
     ) as cluster:
         dask = sweep(
+            ffr_bin,
             study,
             "--out",
             tmp_path / "dask",
@@ -96,12 +87,13 @@ def test_dask_engine_gives_the_local_table(tmp_path):
     assert t_dask == t_local
 
 
-def test_an_unreachable_scheduler_is_a_clear_error(tmp_path):
+def test_an_unreachable_scheduler_is_a_clear_error(tmp_path, ffr_bin):
     study = write_study(tmp_path)
     with socket.socket() as s:  # a loopback port nothing listens on
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
     r = sweep(
+        ffr_bin,
         study,
         "--out",
         tmp_path / "out",
