@@ -244,6 +244,7 @@ fn kernel_options_that_make_no_sense() {
 /// supported) are errors that
 /// name the body, not panics; a good one renders `<Name>Modal`.
 #[test]
+#[cfg(feature = "modal")]
 fn modal_bodies_in_a_build_script() {
     use ffr_codegen::{BodyConfig, Builder, ModalSettings, Params};
     let p = Params {

@@ -2,6 +2,8 @@
 //! the material and resultant forms, the NREL 5-MW blade as shipped, and a
 //! located error for every kind of bad table.
 
+#![cfg(feature = "scene")]
+
 use ffr_codegen::scene::resolve_str;
 use ffr_spec::scene::{BodyKind, SectionTable};
 use std::path::{Path, PathBuf};
