@@ -233,7 +233,7 @@ impl Watch {
                 self.dissipated += h * (p0.dissipated + p.dissipated);
             }
             self.last = Some((state.t, p));
-            if summary.steps % ENERGY_EVERY != 0 {
+            if !summary.steps.is_multiple_of(ENERGY_EVERY) {
                 return Ok(());
             }
             let e = asm.energy(&state.q, &state.v).total();

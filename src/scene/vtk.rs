@@ -696,7 +696,7 @@ impl VtkSeries {
     pub fn observe(&mut self, t: f64, q: &[f64]) -> crate::Result<()> {
         let i = self.sample;
         self.sample += 1;
-        if i % self.every != 0 {
+        if !i.is_multiple_of(self.every) {
             return Ok(());
         }
         if let Some(j) = q.iter().position(|x| !x.is_finite()) {

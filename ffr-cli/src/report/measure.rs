@@ -396,7 +396,7 @@ fn run_pendulum(case: &Case) -> Result<Run, Failure> {
     let c0 = thread_cpu_seconds();
     let res = sys.simulate(t_end, case.dt, &integrator, |v| {
         t_last = v.state.t;
-        if v.step % every == 0 || v.state.t > t_end - 0.5 * case.dt {
+        if v.step.is_multiple_of(every) || v.state.t > t_end - 0.5 * case.dt {
             let e = v.energy().total();
             if v.step == 0 {
                 e0 = e;
@@ -456,7 +456,7 @@ fn run_free_floating(case: &Case) -> Result<Run, Failure> {
     let c0 = thread_cpu_seconds();
     let res = sys.simulate(t_end, case.dt, &integrator, |v| {
         t_last = v.state.t;
-        if v.step % every == 0 || v.state.t > t_end - 0.5 * case.dt {
+        if v.step.is_multiple_of(every) || v.state.t > t_end - 0.5 * case.dt {
             let (p, h) = v.momentum();
             if v.step == 0 {
                 (p0, h0) = (p, h);

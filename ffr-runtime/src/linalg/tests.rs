@@ -269,7 +269,7 @@ fn three_blocks_random_borders_against_nalgebra() {
             let n = 1 + rng.below(40);
             let kl = rng.below(12);
             let ku = rng.below(12);
-            let m = if b == 1 && trial % 2 == 0 {
+            let m = if b == 1 && trial.is_multiple_of(2) {
                 0
             } else {
                 rng.below(k.min(15) + 1)

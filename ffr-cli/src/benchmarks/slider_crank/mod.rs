@@ -380,7 +380,7 @@ pub fn slider_crank_guided(
     }
     let labels = lay.labels.clone();
     let n = last_node(&labels).ok_or("the rod has no node labels")?;
-    if n % 2 != 0 {
+    if !n.is_multiple_of(2) {
         return Err(format!("the rod needs an even number of elements (has {n})").into());
     }
     let mid =
@@ -648,7 +648,7 @@ pub fn run(args: &SliderCrankArgs) -> Result<Report, Box<dyn std::error::Error>>
     if args.dt > args.t_end {
         return Err(format!("--dt {} is longer than --t-end {}", args.dt, args.t_end).into());
     }
-    if args.elements % 2 != 0 {
+    if !args.elements.is_multiple_of(2) {
         return Err(format!(
             "--elements must be even (a node at the midpoint), found {}",
             args.elements
