@@ -309,7 +309,8 @@ enum Layout {
 
 /// `text` (items, or statements at `depth` 2) formatted by prettyplease at
 /// the indentation it has in the file: `depth` 0 top-level items, 1 items of
-/// an impl, 2 statements of a function in an impl.
+/// an impl, 2 statements of a function in an impl, 3 statements of a
+/// function nested in one.
 fn pretty(text: &str, depth: usize) -> String {
     if text.trim().is_empty() {
         return String::new();
@@ -317,7 +318,8 @@ fn pretty(text: &str, depth: usize) -> String {
     let wrapped = match depth {
         0 => text.to_string(),
         1 => format!("impl __Emit {{\n{text}\n}}"),
-        _ => format!("impl __Emit {{\nfn __emit() {{\n{text}\n}}\n}}"),
+        2 => format!("impl __Emit {{\nfn __emit() {{\n{text}\n}}\n}}"),
+        _ => format!("impl __Emit {{\nfn __emit() {{\nfn __inner() {{\n{text}\n}}\n}}\n}}"),
     };
     let file = syn::parse_file(&wrapped)
         .unwrap_or_else(|e| panic!("ffr-codegen produced invalid Rust (a bug): {e}\n{text}"));
@@ -367,6 +369,96 @@ fn kernel_fn(
     out.push_str(&fmt(&sec.intermediates));
     writeln!(out, "{body}// Outputs ({})", p.outputs.len()).unwrap();
     out.push_str(&fmt(&(sec.outputs + tail)));
+    writeln!(out, "{ind}}}").unwrap();
+}
+
+/// `scalar_force_batch` from the program of `scalar_force` (`p`, `nz`
+/// scalars, `nc` coefficients): the program as a nested `#[inline(always)]`
+/// function of one element, called in a loop over the elements whose
+/// scalars (forces) are `nz` contiguous columns of `z_all` (`g_all`). With
+/// shared coefficients (`c_stride = 0`) their reads are invariant in the
+/// loop, so the compiler hoists them and may evaluate several elements per
+/// instruction.
+fn scalar_batch_fn(out: &mut String, layout: Layout, p: &Program, nz: usize, nc: usize) {
+    let sec = sections(p, &Views::new(p, nz, nc));
+    let (ind, body, inner) = match layout {
+        Layout::Pretty => ("    ", "        ", "            "),
+        Layout::Tokens => ("", "", ""),
+    };
+    let fmt = |t: &str, depth: usize| match layout {
+        Layout::Pretty => pretty(t, depth),
+        Layout::Tokens => t.to_string(),
+    };
+    writeln!(out, "{ind}// operations: {} per element", p.ops()).unwrap();
+    let signature = "fn scalar_force_batch(&self, c: &[f64], c_stride: usize, z_all: &[f64], g_all: &mut [f64], elements: usize, _scratch: &mut [f64]) -> bool";
+    match layout {
+        Layout::Pretty => {
+            let sig = pretty(&format!("{signature} {{}}"), 1);
+            let sig = sig
+                .trim_end()
+                .strip_suffix("{}")
+                .expect("prettyplease prints an empty body as {}");
+            writeln!(out, "{sig}{{").unwrap();
+        }
+        Layout::Tokens => writeln!(out, "{signature} {{").unwrap(),
+    }
+    writeln!(out, "{body}// One element: the program of `scalar_force`.").unwrap();
+    writeln!(out, "{body}#[inline(always)]").unwrap();
+    writeln!(
+        out,
+        "{body}fn element(c: &[f64; {nc}], q: &[f64; {nz}], g: &mut [f64; {nz}]) {{"
+    )
+    .unwrap();
+    writeln!(out, "{inner}// Inputs").unwrap();
+    out.push_str(&fmt(&sec.inputs, 3));
+    writeln!(out, "{inner}// Intermediate terms ({})", p.stmts.len()).unwrap();
+    out.push_str(&fmt(&sec.intermediates, 3));
+    writeln!(out, "{inner}// Outputs ({})", p.outputs.len()).unwrap();
+    out.push_str(&fmt(&sec.outputs, 3));
+    writeln!(out, "{body}}}").unwrap();
+    // The loop: sizes checked, then the columns as slices of `elements`
+    // entries each (no bounds checks left in the loop).
+    let mut t = String::new();
+    writeln!(
+        t,
+        "if z_all.len() != {nz} * elements || g_all.len() != {nz} * elements {{ return false; }}"
+    )
+    .unwrap();
+    writeln!(t, "if elements == 0 {{ return true; }}").unwrap();
+    writeln!(t, "let fits = (elements - 1).checked_mul(c_stride).and_then(|x| x.checked_add({nc})).is_some_and(|len| len <= c.len());").unwrap();
+    writeln!(
+        t,
+        "if !fits || (c_stride != 0 && c_stride < {nc}) {{ return false; }}"
+    )
+    .unwrap();
+    for j in 0..nz {
+        let rest = if j + 1 < nz { "z_all" } else { "_" };
+        writeln!(t, "let (z{j}, {rest}) = z_all.split_at(elements);").unwrap();
+    }
+    for j in 0..nz {
+        let rest = if j + 1 < nz { "g_all" } else { "_" };
+        writeln!(t, "let (g{j}, {rest}) = g_all.split_at_mut(elements);").unwrap();
+    }
+    let zs = (0..nz)
+        .map(|j| format!("z{j}[e]"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let mut each = String::new();
+    writeln!(each, "let mut g = [0.0; {nz}];").unwrap();
+    writeln!(each, "element(c, &[{zs}], &mut g);").unwrap();
+    for j in 0..nz {
+        writeln!(each, "g{j}[e] = g[{j}];").unwrap();
+    }
+    writeln!(t, "if c_stride == 0 {{").unwrap();
+    writeln!(t, "let c: &[f64; {nc}] = c[..{nc}].try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
+    writeln!(t, "for e in 0..elements {{\n{each}}}").unwrap();
+    writeln!(t, "}} else {{").unwrap();
+    writeln!(t, "for e in 0..elements {{").unwrap();
+    writeln!(t, "let c: &[f64; {nc}] = c[e * c_stride..e * c_stride + {nc}].try_into().expect(\"the coefficient array has {nc} entries\");").unwrap();
+    writeln!(t, "{each}}}").unwrap();
+    writeln!(t, "}}").unwrap();
+    writeln!(t, "true").unwrap();
+    out.push_str(&fmt(&t, 2));
     writeln!(out, "{ind}}}").unwrap();
 }
 
@@ -582,6 +674,23 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str, layout: Layout) -> String {
             }
         };
         kernel_fn(&mut s, layout, p, &signature, &v, tail);
+        if kind == KernelKind::ScalarForce {
+            let nz = set
+                .polys
+                .energy_form
+                .as_ref()
+                .map_or(0, |e| e.scalars.len());
+            // Every scalar read and force written lies within the `nz`
+            // scalars (the energy form's); a wider program keeps the
+            // per-element default.
+            let within = p.inputs.iter().all(|(_, i)| match i {
+                Input::Sym(Sym::Q(j)) => (*j as usize) < nz,
+                _ => true,
+            }) && p.outputs.iter().all(|((_, idx), _)| (*idx as usize) < nz);
+            if nz > 0 && within {
+                scalar_batch_fn(&mut s, layout, p, nz, nc);
+            }
+        }
     }
     s.push_str("}\n");
     s

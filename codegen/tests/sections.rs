@@ -1,6 +1,7 @@
 //! The layout of generated kernel functions (SymForce style): the operation
 //! count from the program, then `// Inputs`, `// Intermediate terms (N)`,
-//! `// Outputs (N)` with the program's counts, and no self-assignment
+//! `// Outputs (N)` with the program's counts (`scalar_force_batch`: those of
+//! `scalar_force`, per element), and no self-assignment
 //! (`let x0 = x0;`) anywhere in an emitted file.
 
 use ffr_codegen::emit::emit_body_file;
@@ -92,6 +93,8 @@ fn functions(text: &str) -> Vec<(String, usize, usize, usize)> {
             inputs < mid && mid < outs,
             "sections of `{name}` out of order"
         );
+        // `scalar_force_batch` counts the operations of one element.
+        let ops = ops.strip_suffix(" per element").unwrap_or(ops);
         out.push((name.to_string(), ops.parse().unwrap(), n_mid, n_out));
     }
     out
@@ -102,15 +105,21 @@ fn kernel_functions_have_sections_with_the_programs_counts() {
     for set in sets() {
         let text = emit_kernels_file(&set, "K", "::ffr_runtime");
         let fns = functions(&text);
-        let expected: Vec<KernelKind> = KernelKind::ALL
+        // Each kernel's function; after `scalar_force`, `scalar_force_batch`
+        // with the same program in a loop over the elements.
+        let expected: Vec<(&str, KernelKind)> = KernelKind::ALL
             .into_iter()
             .filter(|k| set.program(*k).is_some())
+            .flat_map(|k| {
+                let batch = (k == KernelKind::ScalarForce).then_some(("scalar_force_batch", k));
+                std::iter::once((k.name(), k)).chain(batch)
+            })
             .collect();
         assert_eq!(
             fns.iter().map(|f| f.0.as_str()).collect::<Vec<_>>(),
-            expected.iter().map(|k| k.name()).collect::<Vec<_>>()
+            expected.iter().map(|k| k.0).collect::<Vec<_>>()
         );
-        for ((name, ops, n_mid, n_out), kind) in fns.iter().zip(expected) {
+        for ((name, ops, n_mid, n_out), (_, kind)) in fns.iter().zip(expected) {
             let p = set.program(kind).unwrap();
             assert_eq!(*ops, p.ops(), "{name}");
             assert_eq!(*n_mid, p.stmts.len(), "{name}");

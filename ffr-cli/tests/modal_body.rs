@@ -549,3 +549,153 @@ fn force_elastic_is_the_residual_at_rest() {
     // models × compiled and tape.
     assert_eq!(checked, 48);
 }
+
+/// `scalar_force_batch` (generated: the program of `scalar_force` in a loop
+/// over the elements; on tapes: the trait's default loop) gives the same
+/// bits as `scalar_force` element by element, with one coefficient set for
+/// all elements and with one per element (`c_stride`); it refuses sizes
+/// that disagree. Through the body: `Body::scalar_forces` is
+/// `Body::scalar_derivatives` per element, on an equal and a graded mesh.
+#[test]
+fn scalar_force_batch_is_scalar_force_per_element() {
+    use ffr::runtime::spec::Formalism;
+    use ffr::runtime::{ElementKernels, KernelBody};
+    let mut checked = 0;
+    for (shape, dims) in [("beam2", &[2usize, 3][..]), ("beam3", &[3][..])] {
+        for &dim in dims {
+            for frame in [FrameModel::Free, FrameModel::PrescribedAtRest] {
+                for formalism in [Formalism::Consistent, Formalism::Lumped] {
+                    for stiffening in [Stiffening::SecondOrder, Stiffening::FourthOrder] {
+                        for tape in [false, true] {
+                            let mut b = BeamSpec::new(shape, 5, KRB)
+                                .scene_dim(dim)
+                                .frame(frame)
+                                .formalism(formalism)
+                                .stiffening(stiffening);
+                            b.force_tape = tape;
+                            let what = format!(
+                                "{shape} {dim}D {frame:?} {formalism:?} {stiffening:?} tape={tape}"
+                            );
+                            let k = b.kernels().unwrap();
+                            let (n, nc) = (k.info().n_local, k.info().n_coefficients);
+                            let mut s = vec![0.0; k.info().scratch + 2 * n];
+                            let mut z = vec![0.0; n];
+                            let nz =
+                                k.elastic_scalars(&vec![0.0; nc], &vec![0.0; n], &mut z, &mut s);
+                            assert!(nz > 0, "{what}: element scalars");
+                            let ne = 5;
+                            // Five element lengths; coefficients per element.
+                            let mut c_all = vec![0.0; ne * nc];
+                            for e in 0..ne {
+                                let l = 1.0 + 0.4 * e as f64;
+                                k.coefficients(&KRB, l, &mut c_all[e * nc..(e + 1) * nc]);
+                            }
+                            let z_all = wave(nz * ne, 0.08, 0.7);
+                            for stride in [0, nc] {
+                                let mut g_all = vec![f64::NAN; nz * ne];
+                                assert!(
+                                    k.scalar_force_batch(
+                                        &c_all, stride, &z_all, &mut g_all, ne, &mut s
+                                    ),
+                                    "{what}: stride {stride}"
+                                );
+                                for e in 0..ne {
+                                    let c = &c_all[e * stride..e * stride + nc];
+                                    let mut zz = vec![0.0; n];
+                                    for j in 0..nz {
+                                        zz[j] = z_all[j * ne + e];
+                                    }
+                                    let mut g = vec![0.0; n];
+                                    assert!(k.scalar_force(c, &zz, &mut g, &mut s), "{what}");
+                                    for j in 0..nz {
+                                        assert_eq!(
+                                            g_all[j * ne + e].to_bits(),
+                                            g[j].to_bits(),
+                                            "{what}: stride {stride}, element {e}, scalar {j}"
+                                        );
+                                    }
+                                }
+                            }
+                            // Sizes that disagree are refused.
+                            let mut g_all = vec![0.0; nz * ne];
+                            let short = &z_all[..nz * ne - 1];
+                            assert!(
+                                !k.scalar_force_batch(&c_all, 0, short, &mut g_all, ne, &mut s),
+                                "{what}: a short z_all"
+                            );
+                            assert!(
+                                !k.scalar_force_batch(
+                                    &c_all,
+                                    0,
+                                    &z_all,
+                                    &mut g_all[..nz * ne - 1],
+                                    ne,
+                                    &mut s
+                                ),
+                                "{what}: a short g_all"
+                            );
+                            assert!(
+                                !k.scalar_force_batch(
+                                    &c_all[..(ne - 1) * nc],
+                                    nc,
+                                    &z_all,
+                                    &mut g_all,
+                                    ne,
+                                    &mut s
+                                ),
+                                "{what}: too few coefficients"
+                            );
+                            assert!(
+                                !k.scalar_force_batch(
+                                    &c_all,
+                                    usize::MAX,
+                                    &z_all,
+                                    &mut g_all,
+                                    ne,
+                                    &mut s
+                                ),
+                                "{what}: a stride past the address space"
+                            );
+                            // Through the body, on an equal and a graded mesh.
+                            let equal = b.body().unwrap();
+                            let nodes = [0.0, 0.5, 1.5, 3.0, 5.5, 8.0];
+                            let graded = KernelBody::with_nodes(
+                                b.kernels().unwrap(),
+                                KRB,
+                                &nodes,
+                                Reference::Clamped,
+                            )
+                            .unwrap();
+                            for body in [&equal as &dyn Body, &graded] {
+                                let layout = body.scalar_layout().expect("element scalars");
+                                assert_eq!((layout.elements, layout.scalars), (ne, nz), "{what}");
+                                let mut w = body.work();
+                                let mut g_all = vec![f64::NAN; nz * ne];
+                                assert!(body.scalar_forces(&z_all, &mut w, &mut g_all), "{what}");
+                                for e in 0..ne {
+                                    let mut zz = vec![0.0; n];
+                                    for j in 0..nz {
+                                        zz[j] = z_all[j * ne + e];
+                                    }
+                                    let mut g = vec![0.0; n];
+                                    assert!(body.scalar_derivatives(e, &zz, &mut w, &mut g, None));
+                                    for j in 0..nz {
+                                        assert_eq!(
+                                            g_all[j * ne + e].to_bits(),
+                                            g[j].to_bits(),
+                                            "{what}: body, element {e}, scalar {j}"
+                                        );
+                                    }
+                                }
+                            }
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // 3 shapes-in-dimensions × 2 frames × 2 formalisms × 2 stiffening
+    // models × compiled and tape.
+    assert_eq!(checked, 48);
+}

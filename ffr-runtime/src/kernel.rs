@@ -237,6 +237,56 @@ pub trait ElementKernels: Send + Sync {
         false
     }
 
+    /// [`ElementKernels::scalar_force`] of `elements` elements in one call:
+    /// `g_all[j E + e] = ∂U_nl/∂z_j` at `z_all[j E + e]` (`E = elements`,
+    /// scalar `j` of every element contiguous; `g_all` overwritten, `n_z E`
+    /// entries each), element `e`'s coefficients at `c[e c_stride..]`
+    /// (`c_stride = 0`: one set for every element). `false` when not
+    /// generated or the sizes disagree. The default calls `scalar_force` per
+    /// element, its `z` and `g` in the first `2 n` entries of `scratch`
+    /// (the rest passed on); generated kernels override it with the loop
+    /// inside, the coefficients read once when shared.
+    fn scalar_force_batch(
+        &self,
+        c: &[f64],
+        c_stride: usize,
+        z_all: &[f64],
+        g_all: &mut [f64],
+        elements: usize,
+        scratch: &mut [f64],
+    ) -> bool {
+        let n = self.info().n_local;
+        let nc = self.info().n_coefficients;
+        if elements == 0 || scratch.len() < 2 * n {
+            return elements == 0 && z_all.is_empty() && g_all.is_empty();
+        }
+        let nz = z_all.len() / elements;
+        let fits = (elements - 1)
+            .checked_mul(c_stride)
+            .and_then(|x| x.checked_add(nc))
+            .is_some_and(|len| len <= c.len());
+        let strided = c_stride == 0 || c_stride >= nc;
+        if nz > n || z_all.len() != nz * elements || g_all.len() != z_all.len() || !fits || !strided
+        {
+            return false;
+        }
+        let (z, rest) = scratch.split_at_mut(n);
+        let (g, rest) = rest.split_at_mut(n);
+        for e in 0..elements {
+            for j in 0..nz {
+                z[j] = z_all[j * elements + e];
+            }
+            g.iter_mut().for_each(|x| *x = 0.0);
+            if !self.scalar_force(&c[e * c_stride..e * c_stride + nc], z, g, rest) {
+                return false;
+            }
+            for j in 0..nz {
+                g_all[j * elements + e] = g[j];
+            }
+        }
+        true
+    }
+
     /// `g = ∂U_nl/∂z` and `h = ∂²U_nl/∂z²` (row-major with stride `n`,
     /// symmetric) at `z`; writes the non-zero entries (zero both first).
     /// `false` when not generated.
@@ -366,6 +416,17 @@ macro_rules! forward_element_kernels {
                 s: &mut [f64],
             ) -> bool {
                 $dispatch!(self, k => k.scalar_tangent(c, z, g, h, s))
+            }
+            fn scalar_force_batch(
+                &self,
+                c: &[f64],
+                c_stride: usize,
+                z_all: &[f64],
+                g_all: &mut [f64],
+                elements: usize,
+                s: &mut [f64],
+            ) -> bool {
+                $dispatch!(self, k => k.scalar_force_batch(c, c_stride, z_all, g_all, elements, s))
             }
         }
     };

@@ -559,27 +559,17 @@ impl<K: ElementKernels> Body for KernelBody<K> {
     }
 
     fn scalar_forces(&self, z_all: &[f64], w: &mut BodyWork, g_all: &mut [f64]) -> bool {
-        let (ne, elements) = (self.ne, self.elements);
-        let (z, rest) = w.buf.split_at_mut(ne);
-        let (g, rest) = rest.split_at_mut(ne);
-        let ks = &mut rest[kernel_scratch_at(ne) - 2 * ne..];
-        let nz = z_all.len() / elements.max(1);
-        if nz > ne || z_all.len() != nz * elements || g_all.len() != z_all.len() {
-            return false;
-        }
-        for e in 0..elements {
-            for j in 0..nz {
-                z[j] = z_all[j * elements + e];
-                g[j] = 0.0;
-            }
-            if !self.kernels.scalar_force(self.coef_of(e), z, g, ks) {
-                return false;
-            }
-            for j in 0..nz {
-                g_all[j * elements + e] = g[j];
-            }
-        }
-        true
+        // The scratch from `z` on: the default batch's `z`, `g` and the
+        // kernels' scratch, as `scalar_derivatives` lays them out.
+        let ks = &mut w.buf[kernel_scratch_at(self.ne) - 2 * self.ne..];
+        self.kernels.scalar_force_batch(
+            &self.coef,
+            self.coef_stride,
+            z_all,
+            g_all,
+            self.elements,
+            ks,
+        )
     }
 
     fn tangent(

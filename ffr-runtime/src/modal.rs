@@ -540,10 +540,23 @@ impl ModalBody {
         }
         // z_all[j E + e] = Σ_d Z_e[j, lo_j + d] η_p[lo_j + d].
         z_all.iter_mut().for_each(|x| *x = 0.0);
+        // Four modes per pass over `z_j` (the same sums in the same order
+        // as one mode per pass, a quarter of the passes).
         for j in 0..nz {
             let zj = &mut z_all[j * ne..(j + 1) * ne];
-            for (d, col) in sm.cols[j].chunks_exact(ne).enumerate() {
-                let x = eta_p[sm.lo[j] + d];
+            let x = &eta_p[sm.lo[j]..sm.lo[j] + sm.len[j]];
+            let quads = sm.cols[j].chunks_exact(4 * ne);
+            let rest = quads.remainder();
+            for (m, x4) in quads.zip(x.chunks_exact(4)) {
+                let (c0, m) = m.split_at(ne);
+                let (c1, m) = m.split_at(ne);
+                let (c2, c3) = m.split_at(ne);
+                for ((((o, a), b), c), d) in zj.iter_mut().zip(c0).zip(c1).zip(c2).zip(c3) {
+                    *o = *o + a * x4[0] + b * x4[1] + c * x4[2] + d * x4[3];
+                }
+            }
+            let x = &x[x.len() - rest.len() / ne.max(1)..];
+            for (col, &x) in rest.chunks_exact(ne).zip(x) {
                 if x != 0.0 {
                     for (o, v) in zj.iter_mut().zip(col) {
                         *o += v * x;
