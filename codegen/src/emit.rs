@@ -331,6 +331,21 @@ fn pretty(text: &str, depth: usize) -> String {
     s
 }
 
+/// `signature {`, formatted as in an impl.
+fn open_fn(out: &mut String, layout: Layout, signature: &str) {
+    match layout {
+        Layout::Pretty => {
+            let sig = pretty(&format!("{signature} {{}}"), 1);
+            let sig = sig
+                .trim_end()
+                .strip_suffix("{}")
+                .expect("prettyplease prints an empty body as {}");
+            writeln!(out, "{sig}{{").unwrap();
+        }
+        Layout::Tokens => writeln!(out, "{signature} {{").unwrap(),
+    }
+}
+
 /// One kernel function: the operation count, the signature and the body in
 /// sections (`// Inputs`, `// Intermediate terms (N)`, `// Outputs (N)`),
 /// `tail` after the outputs (a returned value).
@@ -348,17 +363,7 @@ fn kernel_fn(
         Layout::Tokens => ("", ""),
     };
     writeln!(out, "{ind}// operations: {}", p.ops()).unwrap();
-    match layout {
-        Layout::Pretty => {
-            let sig = pretty(&format!("{signature} {{}}"), 1);
-            let sig = sig
-                .trim_end()
-                .strip_suffix("{}")
-                .expect("prettyplease prints an empty body as {}");
-            writeln!(out, "{sig}{{").unwrap();
-        }
-        Layout::Tokens => writeln!(out, "{signature} {{").unwrap(),
-    }
+    open_fn(out, layout, signature);
     let fmt = |t: &str| match layout {
         Layout::Pretty => pretty(t, 2),
         Layout::Tokens => t.to_string(),
@@ -391,17 +396,7 @@ fn scalar_batch_fn(out: &mut String, layout: Layout, p: &Program, nz: usize, nc:
     };
     writeln!(out, "{ind}// operations: {} per element", p.ops()).unwrap();
     let signature = "fn scalar_force_batch(&self, c: &[f64], c_stride: usize, z_all: &[f64], g_all: &mut [f64], elements: usize, _scratch: &mut [f64]) -> bool";
-    match layout {
-        Layout::Pretty => {
-            let sig = pretty(&format!("{signature} {{}}"), 1);
-            let sig = sig
-                .trim_end()
-                .strip_suffix("{}")
-                .expect("prettyplease prints an empty body as {}");
-            writeln!(out, "{sig}{{").unwrap();
-        }
-        Layout::Tokens => writeln!(out, "{signature} {{").unwrap(),
-    }
+    open_fn(out, layout, signature);
     writeln!(out, "{body}// One element: the program of `scalar_force`.").unwrap();
     writeln!(out, "{body}#[inline(always)]").unwrap();
     writeln!(

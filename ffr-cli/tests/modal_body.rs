@@ -360,6 +360,37 @@ fn spin_up_with_modes_converges_to_the_full_body() {
     assert!(pure_peak < 0.5 * peak, "{pure_peak} vs {peak}");
 }
 
+/// Every built-in kernel set with one of `stiffenings`, compiled and on
+/// tapes, on `elements` elements, with a label: shapes in their dimensions
+/// × frames × formalisms × stiffening models × compiled and tape.
+fn kernel_specs(elements: usize, stiffenings: &[Stiffening]) -> Vec<(BeamSpec, String)> {
+    use ffr::runtime::spec::Formalism;
+    let mut out = Vec::new();
+    for (shape, dims) in [("beam2", &[2usize, 3][..]), ("beam3", &[3][..])] {
+        for &dim in dims {
+            for frame in [FrameModel::Free, FrameModel::PrescribedAtRest] {
+                for formalism in [Formalism::Consistent, Formalism::Lumped] {
+                    for &stiffening in stiffenings {
+                        for tape in [false, true] {
+                            let mut b = BeamSpec::new(shape, elements, KRB)
+                                .scene_dim(dim)
+                                .frame(frame)
+                                .formalism(formalism)
+                                .stiffening(stiffening);
+                            b.force_tape = tape;
+                            let what = format!(
+                                "{shape} {dim}D {frame:?} {formalism:?} {stiffening:?} tape={tape}"
+                            );
+                            out.push((b, what));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
 /// The element-scalar kernels of a set with stiffening against its other
 /// kernels: with `S` the map `elastic_scalars` gives (read off unit
 /// vectors), `K_e` the tangent at rest (`∇²U_nl(0) = 0`: the stiffening
@@ -459,91 +490,73 @@ fn check_element_scalars(
 /// without stiffening report that they have none.
 #[test]
 fn force_elastic_is_the_residual_at_rest() {
-    use ffr::runtime::spec::Formalism;
     use ffr::runtime::{ElementKernels, KernelInput};
     let mut checked = 0;
-    for (shape, dims) in [("beam2", &[2usize, 3][..]), ("beam3", &[3][..])] {
-        for &dim in dims {
-            for frame in [FrameModel::Free, FrameModel::PrescribedAtRest] {
-                for formalism in [Formalism::Consistent, Formalism::Lumped] {
-                    for stiffening in [
-                        Stiffening::Off,
-                        Stiffening::SecondOrder,
-                        Stiffening::FourthOrder,
-                    ] {
-                        for tape in [false, true] {
-                            let mut b = BeamSpec::new(shape, 3, KRB)
-                                .scene_dim(dim)
-                                .frame(frame)
-                                .formalism(formalism)
-                                .stiffening(stiffening);
-                            b.force_tape = tape;
-                            let what = format!(
-                                "{shape} {dim}D {frame:?} {formalism:?} {stiffening:?} tape={tape}"
-                            );
-                            let k = b.kernels().unwrap();
-                            let n = k.info().n_local;
-                            let mut c = vec![0.0; k.info().n_coefficients];
-                            k.coefficients(&KRB, 8.0 / 3.0, &mut c);
-                            let mut s = vec![0.0; k.info().scratch];
-                            let q = wave(n, 0.05, 0.3);
-                            let z = vec![0.0; n];
-                            let (mut a, mut r) = (vec![0.0; n], vec![0.0; n]);
-                            let has = k.force_elastic(&c, &q, &mut a, &mut s);
-                            assert_eq!(has, stiffening != Stiffening::Off, "{what}");
-                            if !has {
-                                assert!(a.iter().all(|x| *x == 0.0), "{what}: f_e touched");
-                                continue;
-                            }
-                            let x = KernelInput {
-                                x0: 8.0 / 3.0,
-                                q: &q,
-                                qd: &z,
-                                qdd: &z,
-                                frame: &[0.0; 9],
-                            };
-                            k.residual_elastic(&c, &x, &mut r, &mut s);
-                            let scale = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                            for i in 0..n {
-                                assert!(
-                                    (a[i] - r[i]).abs() <= 1e-13 * scale,
-                                    "{what}: f_e[{i}] {} against {}",
-                                    a[i],
-                                    r[i]
-                                );
-                            }
-                            check_element_scalars(&k, &c, &q, &a, &mut s, &what);
-                            // Through the body.
-                            let body = b.body().unwrap();
-                            let nf = body.layout().nf;
-                            let qf = wave(nf, 0.05, 0.9);
-                            let zf = vec![0.0; nf];
-                            let mut w = body.work();
-                            let mut f = vec![0.0; nf];
-                            assert!(body.elastic_force(&qf, &mut w, &mut f), "{what}");
-                            let mut out = BodyForces::zeros(nf);
-                            let st = BodyState {
-                                q_f: &qf,
-                                qd_f: &zf,
-                                qdd_f: &zf,
-                                frame: [0.0; 9],
-                            };
-                            body.forces(&st, false, &mut w, &mut out);
-                            let scale = out.f_f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                            for i in 0..nf {
-                                assert!(
-                                    (f[i] - out.f_f[i]).abs() <= 1e-13 * scale,
-                                    "{what}: body f_f[{i}] {} against {}",
-                                    f[i],
-                                    out.f_f[i]
-                                );
-                            }
-                            checked += 1;
-                        }
-                    }
-                }
-            }
+    let all = [
+        Stiffening::Off,
+        Stiffening::SecondOrder,
+        Stiffening::FourthOrder,
+    ];
+    for (b, what) in kernel_specs(3, &all) {
+        let stiffening = b.options.stiffening;
+        let k = b.kernels().unwrap();
+        let n = k.info().n_local;
+        let mut c = vec![0.0; k.info().n_coefficients];
+        k.coefficients(&KRB, 8.0 / 3.0, &mut c);
+        let mut s = vec![0.0; k.info().scratch];
+        let q = wave(n, 0.05, 0.3);
+        let z = vec![0.0; n];
+        let (mut a, mut r) = (vec![0.0; n], vec![0.0; n]);
+        let has = k.force_elastic(&c, &q, &mut a, &mut s);
+        assert_eq!(has, stiffening != Stiffening::Off, "{what}");
+        if !has {
+            assert!(a.iter().all(|x| *x == 0.0), "{what}: f_e touched");
+            continue;
         }
+        let x = KernelInput {
+            x0: 8.0 / 3.0,
+            q: &q,
+            qd: &z,
+            qdd: &z,
+            frame: &[0.0; 9],
+        };
+        k.residual_elastic(&c, &x, &mut r, &mut s);
+        let scale = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for i in 0..n {
+            assert!(
+                (a[i] - r[i]).abs() <= 1e-13 * scale,
+                "{what}: f_e[{i}] {} against {}",
+                a[i],
+                r[i]
+            );
+        }
+        check_element_scalars(&k, &c, &q, &a, &mut s, &what);
+        // Through the body.
+        let body = b.body().unwrap();
+        let nf = body.layout().nf;
+        let qf = wave(nf, 0.05, 0.9);
+        let zf = vec![0.0; nf];
+        let mut w = body.work();
+        let mut f = vec![0.0; nf];
+        assert!(body.elastic_force(&qf, &mut w, &mut f), "{what}");
+        let mut out = BodyForces::zeros(nf);
+        let st = BodyState {
+            q_f: &qf,
+            qd_f: &zf,
+            qdd_f: &zf,
+            frame: [0.0; 9],
+        };
+        body.forces(&st, false, &mut w, &mut out);
+        let scale = out.f_f.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for i in 0..nf {
+            assert!(
+                (f[i] - out.f_f[i]).abs() <= 1e-13 * scale,
+                "{what}: body f_f[{i}] {} against {}",
+                f[i],
+                out.f_f[i]
+            );
+        }
+        checked += 1;
     }
     // 3 shapes-in-dimensions × 2 frames × 2 formalisms × 2 stiffening
     // models × compiled and tape.
@@ -558,142 +571,93 @@ fn force_elastic_is_the_residual_at_rest() {
 /// `Body::scalar_derivatives` per element, on an equal and a graded mesh.
 #[test]
 fn scalar_force_batch_is_scalar_force_per_element() {
-    use ffr::runtime::spec::Formalism;
     use ffr::runtime::{ElementKernels, KernelBody};
     let mut checked = 0;
-    for (shape, dims) in [("beam2", &[2usize, 3][..]), ("beam3", &[3][..])] {
-        for &dim in dims {
-            for frame in [FrameModel::Free, FrameModel::PrescribedAtRest] {
-                for formalism in [Formalism::Consistent, Formalism::Lumped] {
-                    for stiffening in [Stiffening::SecondOrder, Stiffening::FourthOrder] {
-                        for tape in [false, true] {
-                            let mut b = BeamSpec::new(shape, 5, KRB)
-                                .scene_dim(dim)
-                                .frame(frame)
-                                .formalism(formalism)
-                                .stiffening(stiffening);
-                            b.force_tape = tape;
-                            let what = format!(
-                                "{shape} {dim}D {frame:?} {formalism:?} {stiffening:?} tape={tape}"
-                            );
-                            let k = b.kernels().unwrap();
-                            let (n, nc) = (k.info().n_local, k.info().n_coefficients);
-                            let mut s = vec![0.0; k.info().scratch + 2 * n];
-                            let mut z = vec![0.0; n];
-                            let nz =
-                                k.elastic_scalars(&vec![0.0; nc], &vec![0.0; n], &mut z, &mut s);
-                            assert!(nz > 0, "{what}: element scalars");
-                            let ne = 5;
-                            // Five element lengths; coefficients per element.
-                            let mut c_all = vec![0.0; ne * nc];
-                            for e in 0..ne {
-                                let l = 1.0 + 0.4 * e as f64;
-                                k.coefficients(&KRB, l, &mut c_all[e * nc..(e + 1) * nc]);
-                            }
-                            let z_all = wave(nz * ne, 0.08, 0.7);
-                            for stride in [0, nc] {
-                                let mut g_all = vec![f64::NAN; nz * ne];
-                                assert!(
-                                    k.scalar_force_batch(
-                                        &c_all, stride, &z_all, &mut g_all, ne, &mut s
-                                    ),
-                                    "{what}: stride {stride}"
-                                );
-                                for e in 0..ne {
-                                    let c = &c_all[e * stride..e * stride + nc];
-                                    let mut zz = vec![0.0; n];
-                                    for j in 0..nz {
-                                        zz[j] = z_all[j * ne + e];
-                                    }
-                                    let mut g = vec![0.0; n];
-                                    assert!(k.scalar_force(c, &zz, &mut g, &mut s), "{what}");
-                                    for j in 0..nz {
-                                        assert_eq!(
-                                            g_all[j * ne + e].to_bits(),
-                                            g[j].to_bits(),
-                                            "{what}: stride {stride}, element {e}, scalar {j}"
-                                        );
-                                    }
-                                }
-                            }
-                            // Sizes that disagree are refused.
-                            let mut g_all = vec![0.0; nz * ne];
-                            let short = &z_all[..nz * ne - 1];
-                            assert!(
-                                !k.scalar_force_batch(&c_all, 0, short, &mut g_all, ne, &mut s),
-                                "{what}: a short z_all"
-                            );
-                            assert!(
-                                !k.scalar_force_batch(
-                                    &c_all,
-                                    0,
-                                    &z_all,
-                                    &mut g_all[..nz * ne - 1],
-                                    ne,
-                                    &mut s
-                                ),
-                                "{what}: a short g_all"
-                            );
-                            assert!(
-                                !k.scalar_force_batch(
-                                    &c_all[..(ne - 1) * nc],
-                                    nc,
-                                    &z_all,
-                                    &mut g_all,
-                                    ne,
-                                    &mut s
-                                ),
-                                "{what}: too few coefficients"
-                            );
-                            assert!(
-                                !k.scalar_force_batch(
-                                    &c_all,
-                                    usize::MAX,
-                                    &z_all,
-                                    &mut g_all,
-                                    ne,
-                                    &mut s
-                                ),
-                                "{what}: a stride past the address space"
-                            );
-                            // Through the body, on an equal and a graded mesh.
-                            let equal = b.body().unwrap();
-                            let nodes = [0.0, 0.5, 1.5, 3.0, 5.5, 8.0];
-                            let graded = KernelBody::with_nodes(
-                                b.kernels().unwrap(),
-                                KRB,
-                                &nodes,
-                                Reference::Clamped,
-                            )
-                            .unwrap();
-                            for body in [&equal as &dyn Body, &graded] {
-                                let layout = body.scalar_layout().expect("element scalars");
-                                assert_eq!((layout.elements, layout.scalars), (ne, nz), "{what}");
-                                let mut w = body.work();
-                                let mut g_all = vec![f64::NAN; nz * ne];
-                                assert!(body.scalar_forces(&z_all, &mut w, &mut g_all), "{what}");
-                                for e in 0..ne {
-                                    let mut zz = vec![0.0; n];
-                                    for j in 0..nz {
-                                        zz[j] = z_all[j * ne + e];
-                                    }
-                                    let mut g = vec![0.0; n];
-                                    assert!(body.scalar_derivatives(e, &zz, &mut w, &mut g, None));
-                                    for j in 0..nz {
-                                        assert_eq!(
-                                            g_all[j * ne + e].to_bits(),
-                                            g[j].to_bits(),
-                                            "{what}: body, element {e}, scalar {j}"
-                                        );
-                                    }
-                                }
-                            }
-                            checked += 1;
-                        }
-                    }
+    for (b, what) in kernel_specs(5, &[Stiffening::SecondOrder, Stiffening::FourthOrder]) {
+        let k = b.kernels().unwrap();
+        let (n, nc) = (k.info().n_local, k.info().n_coefficients);
+        let mut s = vec![0.0; k.info().scratch + 2 * n];
+        let mut z = vec![0.0; n];
+        let nz = k.elastic_scalars(&vec![0.0; nc], &vec![0.0; n], &mut z, &mut s);
+        assert!(nz > 0, "{what}: element scalars");
+        let ne = 5;
+        // Five element lengths; coefficients per element.
+        let mut c_all = vec![0.0; ne * nc];
+        for e in 0..ne {
+            let l = 1.0 + 0.4 * e as f64;
+            k.coefficients(&KRB, l, &mut c_all[e * nc..(e + 1) * nc]);
+        }
+        let z_all = wave(nz * ne, 0.08, 0.7);
+        for stride in [0, nc] {
+            let mut g_all = vec![f64::NAN; nz * ne];
+            assert!(
+                k.scalar_force_batch(&c_all, stride, &z_all, &mut g_all, ne, &mut s),
+                "{what}: stride {stride}"
+            );
+            for e in 0..ne {
+                let c = &c_all[e * stride..e * stride + nc];
+                let mut zz = vec![0.0; n];
+                for j in 0..nz {
+                    zz[j] = z_all[j * ne + e];
+                }
+                let mut g = vec![0.0; n];
+                assert!(k.scalar_force(c, &zz, &mut g, &mut s), "{what}");
+                for j in 0..nz {
+                    assert_eq!(
+                        g_all[j * ne + e].to_bits(),
+                        g[j].to_bits(),
+                        "{what}: stride {stride}, element {e}, scalar {j}"
+                    );
                 }
             }
         }
+        // Sizes that disagree are refused.
+        let mut g_all = vec![0.0; nz * ne];
+        let short = &z_all[..nz * ne - 1];
+        assert!(
+            !k.scalar_force_batch(&c_all, 0, short, &mut g_all, ne, &mut s),
+            "{what}: a short z_all"
+        );
+        assert!(
+            !k.scalar_force_batch(&c_all, 0, &z_all, &mut g_all[..nz * ne - 1], ne, &mut s),
+            "{what}: a short g_all"
+        );
+        assert!(
+            !k.scalar_force_batch(&c_all[..(ne - 1) * nc], nc, &z_all, &mut g_all, ne, &mut s),
+            "{what}: too few coefficients"
+        );
+        assert!(
+            !k.scalar_force_batch(&c_all, usize::MAX, &z_all, &mut g_all, ne, &mut s),
+            "{what}: a stride past the address space"
+        );
+        // Through the body, on an equal and a graded mesh.
+        let equal = b.body().unwrap();
+        let nodes = [0.0, 0.5, 1.5, 3.0, 5.5, 8.0];
+        let graded =
+            KernelBody::with_nodes(b.kernels().unwrap(), KRB, &nodes, Reference::Clamped).unwrap();
+        for body in [&equal as &dyn Body, &graded] {
+            let layout = body.scalar_layout().expect("element scalars");
+            assert_eq!((layout.elements, layout.scalars), (ne, nz), "{what}");
+            let mut w = body.work();
+            let mut g_all = vec![f64::NAN; nz * ne];
+            assert!(body.scalar_forces(&z_all, &mut w, &mut g_all), "{what}");
+            for e in 0..ne {
+                let mut zz = vec![0.0; n];
+                for j in 0..nz {
+                    zz[j] = z_all[j * ne + e];
+                }
+                let mut g = vec![0.0; n];
+                assert!(body.scalar_derivatives(e, &zz, &mut w, &mut g, None));
+                for j in 0..nz {
+                    assert_eq!(
+                        g_all[j * ne + e].to_bits(),
+                        g[j].to_bits(),
+                        "{what}: body, element {e}, scalar {j}"
+                    );
+                }
+            }
+        }
+        checked += 1;
     }
     // 3 shapes-in-dimensions × 2 frames × 2 formalisms × 2 stiffening
     // models × compiled and tape.
