@@ -355,7 +355,7 @@ pub struct Equations {
 /// leaves it out) and, if given, the gradient of the stiffening energy
 /// `energy_form` (its element scalars bound in `dag`). The invariants may be
 /// polynomials in the parameters (an element's) or numbers (a modal body's,
-/// [`crate::modal::exact_invariants`]): one path for both.
+/// `crate::modal::exact_invariants`): one path for both.
 pub fn equations(
     inv: &ExactInvariants,
     energy_form: Option<&ElementEnergy>,
