@@ -191,6 +191,8 @@ fn beam2_modal_body() {
     };
     let file = ffr_codegen::emit::emit_modal_body_file(&set, &spec, &opts, &model, &p).unwrap();
     let header_end = file.find("\n\n").unwrap();
-    let modal = file.find("/// The body `Beam` at fixed parameters").unwrap();
+    let modal = file
+        .find("/// The body `Beam` at fixed parameters")
+        .unwrap();
     insta::assert_snapshot!(format!("{}\n[…]\n{}", &file[..header_end], &file[modal..]));
 }
