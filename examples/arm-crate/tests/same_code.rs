@@ -154,3 +154,24 @@ fn generated_modal_body_is_the_runtime_one() {
     assert_eq!(generated.data().phi, plain.data().phi);
     assert_eq!(generated.invariants(), plain.invariants());
 }
+
+/// The attribute's `SpinUpBeam16Modal` (16 beam2, 4 modes plus 14 static
+/// modes, fourth-order stiffening; its inertia equations as generated
+/// kernels) is the run-time reduction of the same beam with the same
+/// programs on tapes, bit for bit.
+#[test]
+fn attribute_modal_body_with_generated_kernels_is_the_tape_one() {
+    use arm_crate::attr::SpinUpBeam16Modal;
+    use ffr::kernels::BeamSpec;
+    use ffr::runtime::spec::{Reference, Stiffening};
+    let generated = SpinUpBeam16Modal::body().unwrap();
+    let mut beam = BeamSpec::new("beam2", 16, SpinUpBeam16Modal::params());
+    beam.reference = Reference::Clamped;
+    beam.options.stiffening = Stiffening::FourthOrder;
+    let settings = ffr::modal::ModalSettings::truncation(4);
+    let tape = ffr::modal::modal_body_tape(&beam, &settings).unwrap();
+    assert_eq!(SpinUpBeam16Modal::MODES, 18);
+    assert!(generated.uses_generated_kernels() && tape.uses_generated_kernels());
+    assert_eq!(generated.layout().labels, tape.layout().labels);
+    assert_eq!(sample_bits(&generated, 1e-3), sample_bits(&tape, 1e-3));
+}
