@@ -354,6 +354,47 @@ impl ReducibleBody {
         stiffening: Stiffening,
         full: Box<dyn Body>,
     ) -> crate::Result<ModalBody> {
+        let model = self.model(settings, stiffening, &*full)?;
+        let data = modal_data(&model, self.description());
+        Ok(ModalBody::new(full, data)?)
+    }
+
+    /// [`ReducibleBody::runtime_body`] whose inertia equations run through
+    /// the generated modal kernels on tapes (the programs `ffr emit --modes`
+    /// compiles, [`crate::runtime::modal_tape::TapeModalKernels`]); above
+    /// [`modal::MAX_GENERATED_MODES`] modes the run-time equations, as
+    /// generated code does ([`ModalBody::uses_generated_kernels`] tells).
+    pub fn tape_body(
+        &self,
+        settings: &ModalSettings,
+        stiffening: Stiffening,
+        full: Box<dyn Body>,
+    ) -> crate::Result<ModalBody> {
+        let model = self.model(settings, stiffening, &*full)?;
+        let scene = if full.layout().scene_dim == 2 {
+            crate::runtime::spec::SceneDim::Planar
+        } else {
+            crate::runtime::spec::SceneDim::Spatial
+        };
+        let kernels = modal::generate_modal_kernels(&model, scene)?;
+        let data = modal_data(&model, self.description());
+        Ok(match kernels {
+            Some(set) => ModalBody::with_kernels(
+                full,
+                data,
+                Box::new(crate::runtime::modal_tape::TapeModalKernels::from_set(&set)),
+            )?,
+            None => ModalBody::new(full, data)?,
+        })
+    }
+
+    /// The reduced body's numbers (see [`ReducibleBody::runtime_body`]).
+    fn model(
+        &self,
+        settings: &ModalSettings,
+        stiffening: Stiffening,
+        full: &dyn Body,
+    ) -> crate::Result<modal::ModalModel> {
         if full.layout().nf != self.dofs.len() {
             return Err(format!(
                 "the full body has {} elastic coordinates, the reduction {}",
@@ -363,16 +404,14 @@ impl ReducibleBody {
             .into());
         }
         let base = self.reduce(Some(settings.modes), &settings.boundary, "`modes`")?;
-        let model = modal::ModalModel::new(
+        Ok(modal::ModalModel::new(
             &self.spec,
             &self.params,
             &self.invariants,
             base,
             settings,
             stiffening,
-        )?;
-        let data = modal_data(&model, self.description());
-        Ok(ModalBody::new(full, data)?)
+        )?)
     }
 }
 
@@ -401,6 +440,19 @@ pub fn modal_body(beam: &BeamSpec, settings: &ModalSettings) -> crate::Result<Mo
         beam.params,
     )?;
     r.runtime_body(settings, beam.options.stiffening, Box::new(beam.body()?))
+}
+
+/// [`modal_body`] with the generated inertia kernels on tapes
+/// ([`ReducibleBody::tape_body`]).
+pub fn modal_body_tape(beam: &BeamSpec, settings: &ModalSettings) -> crate::Result<ModalBody> {
+    let r = ReducibleBody::from_parts(
+        &beam.shape,
+        beam.elements,
+        beam.reference,
+        beam.options.formalism,
+        beam.params,
+    )?;
+    r.tape_body(settings, beam.options.stiffening, Box::new(beam.body()?))
 }
 
 /// `quantity` is `v`: an error unless `v` is finite.

@@ -246,17 +246,23 @@ pub struct TipBoundary {
     pub j: f64,
 }
 
-/// `#[flex_body(modes = …)]` bakes the modal body in at build time: the
-/// same bits as the runtime's modal body of the same beam and reduction
-/// (`ffr::modal::modal_body`, what a scene file with `modes` builds), for
-/// modal truncation with static modes and for Craig–Bampton.
+/// `#[flex_body(modes = …)]` bakes the modal body in at build time, its
+/// inertia equations as generated kernels: the same bits as the runtime's
+/// modal body of the same beam and reduction with the same generated
+/// programs on tapes (`ffr::modal::modal_body_tape`; `modal_body`, what a
+/// scene file with `modes` builds, has the same constants and damping),
+/// for modal truncation with static modes and for Craig–Bampton.
 #[test]
 fn modal_bodies_from_the_attribute_are_the_runtime_ones() {
-    use ffr::modal::{modal_body, ModalSettings};
+    use ffr::modal::{modal_body, modal_body_tape, ModalSettings};
     let mut beam = BeamSpec::new("beam2", 4, SpinBeamModal::params());
     beam.options.stiffening = Stiffening::FourthOrder;
-    let runtime = modal_body(&beam, &ModalSettings::truncation(2)).unwrap();
+    let runtime = modal_body_tape(&beam, &ModalSettings::truncation(2)).unwrap();
     let generated = SpinBeamModal::body().unwrap();
+    assert!(generated.uses_generated_kernels() && runtime.uses_generated_kernels());
+    let plain = modal_body(&beam, &ModalSettings::truncation(2)).unwrap();
+    assert_eq!(generated.data().phi, plain.data().phi);
+    assert_eq!(generated.invariants(), plain.invariants());
     assert_eq!(SpinBeamModal::MODES, 9);
     assert_eq!(generated.layout().labels, runtime.layout().labels);
     assert_eq!(generated.data().description, runtime.data().description);
@@ -269,7 +275,7 @@ fn modal_bodies_from_the_attribute_are_the_runtime_ones() {
         static_modes: false,
         damping: Vec::new(),
     };
-    let runtime = modal_body(&beam, &settings).unwrap();
+    let runtime = modal_body_tape(&beam, &settings).unwrap();
     let generated = TipBoundaryModal::body().unwrap();
     assert_eq!(
         generated.layout().labels,

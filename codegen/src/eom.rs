@@ -224,327 +224,24 @@ impl KernelModel {
         let energy_form = element_energy_with(&self.shape, self.options.stiffening, self.sections)?;
         let n = inv.nf;
         let mut dag = Dag::new();
-
-        // Frame inputs (zero where a planar scene has none).
-        let planar = self.scene() == SceneDim::Planar;
-        let zero_a = self.options.frame.zero_frame_acceleration();
-        let live = |k: usize| !((planar && matches!(k, 2 | 3 | 4 | 6 | 7)) || (zero_a && k < 3));
-        let f = |k: usize| if live(k) { frame(k) } else { Poly::zero() };
-        let a_bar = [f(0), f(1), f(2)];
-        let alpha = [f(3), f(4), f(5)];
-        let w = [f(6), f(7), f(8)];
-        // ω̃ and ω̃² = ω ωᵀ − |ω|² I.
-        let zero = Poly::zero();
-        let w1: [[Poly; 3]; 3] = [
-            [zero.clone(), w[2].scale(&rat(-1, 1)), w[1].clone()],
-            [w[2].clone(), zero.clone(), w[0].scale(&rat(-1, 1))],
-            [w[1].scale(&rat(-1, 1)), w[0].clone(), zero.clone()],
-        ];
-        let wsq = w[0].mul(&w[0]).add(&w[1].mul(&w[1])).add(&w[2].mul(&w[2]));
-        let w2: [[Poly; 3]; 3] = std::array::from_fn(|k| {
-            std::array::from_fn(|l| {
-                let mut v = w[k].mul(&w[l]);
-                if k == l {
-                    v = v.sub(&wsq);
-                }
-                v
-            })
-        });
-
-        // Intermediates of q.
-        let s_t: [Poly; 3] = std::array::from_fn(|k| {
-            let p = inv.s_t0[k].add(&linear(
-                &(0..n)
-                    .map(|a| inv.s_bar.get(k, a).clone())
-                    .collect::<Vec<_>>(),
-                q,
-            ));
-            dag.bind(&format!("s_t_{}", AXES[k]), p)
-        });
-        let mut u: [[Poly; 3]; 3] = Default::default();
-        for k in 0..3 {
-            for l in k..3 {
-                let lin: Vec<Poly> = (0..n)
-                    .map(|a| inv.i_kl[k][l][a].add(&inv.i_kl[l][k][a]))
-                    .collect();
-                let p = inv.theta[k][l]
-                    .add(&linear(&lin, q))
-                    .add(&bilinear(&inv.s_kl[k][l], q, q));
-                let z = dag.bind(&format!("u_{}{}", AXES[k], AXES[l]), p);
-                u[k][l] = z.clone();
-                u[l][k] = z;
-            }
-        }
-        let tr = u[0][0].add(&u[1][1]).add(&u[2][2]);
-        let i_tt: [[Poly; 3]; 3] = std::array::from_fn(|k| {
-            std::array::from_fn(|l| {
-                let m = u[k][l].scale(&rat(-1, 1));
-                if k == l {
-                    m.add(&tr)
-                } else {
-                    m
-                }
-            })
-        });
-        // Ī_θf rows r = 0, 1, 2 from (a, b) = (y, z), (z, x), (x, y).
-        let cyc = [(1, 2), (2, 0), (0, 1)];
-        let i_tf: Vec<[Poly; 3]> = (0..n)
-            .map(|a| {
-                std::array::from_fn(|r| {
-                    let (ka, kb) = cyc[r];
-                    let mut p = inv.i_kl[ka][kb][a].sub(&inv.i_kl[kb][ka][a]);
-                    for c in 0..n {
-                        let s = inv.s_kl[ka][kb].get(c, a).sub(inv.s_kl[kb][ka].get(c, a));
-                        if !s.is_zero() {
-                            p.add_assign(&s.mul(&Poly::var(q(c))));
-                        }
-                    }
-                    dag.bind(&format!("i_tf_{}_{a}", AXES[r]), p)
-                })
-            })
-            .collect();
-        // S̄ q̇, S̄ q̈ and P_kl = Ī_kl q̇ + qᵀ S̄_kl q̇.
-        let row = |k: usize| {
-            (0..n)
-                .map(|a| inv.s_bar.get(k, a).clone())
-                .collect::<Vec<_>>()
+        let inputs = FrameInputs {
+            planar: self.scene() == SceneDim::Planar,
+            zero_acceleration: self.options.frame.zero_frame_acceleration(),
+            free: self.options.frame.is_free(),
         };
-        let sbar_qd: [Poly; 3] = std::array::from_fn(|k| linear(&row(k), qd));
-        let sbar_qdd: [Poly; 3] = std::array::from_fn(|k| linear(&row(k), qdd));
-        let p_kl: [[Poly; 3]; 3] = std::array::from_fn(|k| {
-            std::array::from_fn(|l| {
-                let p = linear(&inv.i_kl[k][l], qd).add(&bilinear(&inv.s_kl[k][l], q, qd));
-                dag.bind(&format!("p_{}{}", AXES[k], AXES[l]), p)
-            })
-        });
-
-        // f_r = m ā − S_t × α + S̄ q̈ + ω̃² S_t + 2 ω̃ S̄ q̇.
-        let st_x_alpha = cross(&s_t, &alpha);
-        let w2_st = mat_vec(&w2, &s_t);
-        let w1_sqd = mat_vec(&w1, &sbar_qd);
-        let f_r: [Poly; 3] = std::array::from_fn(|k| {
-            inv.mass
-                .mul(&a_bar[k])
-                .sub(&st_x_alpha[k])
-                .add(&sbar_qdd[k])
-                .add(&w2_st[k])
-                .add(&w1_sqd[k].scale(&rat(2, 1)))
-        });
-        // f_θ = S_t × ā + Ī_θθ α + Ī_θf q̈ + ω × (Ī_θθ ω) + 2 (tr P ω − Pᵀ ω).
-        let st_x_a = cross(&s_t, &a_bar);
-        let i_alpha = mat_vec(&i_tt, &alpha);
-        let i_w = mat_vec(&i_tt, &w);
-        let gyro = cross(&w, &i_w);
-        let tr_p = p_kl[0][0].add(&p_kl[1][1]).add(&p_kl[2][2]);
-        let p_t: [[Poly; 3]; 3] =
-            std::array::from_fn(|k| std::array::from_fn(|l| p_kl[l][k].clone()));
-        let pt_w = mat_vec(&p_t, &w);
-        let f_th: [Poly; 3] = std::array::from_fn(|k| {
-            let mut itf_qdd = Poly::zero();
-            for (a, row) in i_tf.iter().enumerate() {
-                itf_qdd.add_assign(&row[k].mul(&Poly::var(qdd(a))));
-            }
-            st_x_a[k]
-                .add(&i_alpha[k])
-                .add(&itf_qdd)
-                .add(&gyro[k])
-                .add(&w[k].mul(&tr_p).sub(&pt_w[k]).scale(&rat(2, 1)))
-        });
-        // f_e.
-        let energy_grad = energy_form.as_ref().map(|ef| {
-            // Element scalars, then derived scalars, then the energy: the
-            // chain rule runs through them (Sym::Z ids of the form → DAG).
-            let mut zs: Vec<Poly> = ef
-                .scalars
-                .iter()
-                .zip(&ef.names)
-                .map(|(form, name)| dag.bind_always(name, linear(form, q)))
-                .collect();
-            // Energy-local Z(j) → the DAG's symbols, all at once.
-            let subst = |p: &Poly, zs: &[Poly]| {
-                let ids: Vec<Sym> = zs
-                    .iter()
-                    .map(|z| match z.terms().next().map(|(m, _)| m.factors()) {
-                        Some([(s, 1)]) => *s,
-                        _ => unreachable!("bind_always returns a symbol"),
-                    })
-                    .collect();
-                p.rename(|s| match s {
-                    Sym::Z(j) => Some(ids[j as usize]),
-                    other => Some(other),
-                })
-            };
-            for (name, def) in &ef.derived {
-                let d = subst(def, &zs);
-                zs.push(dag.bind_always(name, d));
-            }
-            let e = subst(&ef.energy, &zs);
-            dag.bind_always("u_nl", e)
-        });
-        let mut f_e = Vec::with_capacity(n);
-        let mut elastic = Vec::with_capacity(n);
-        let mut inertial = Vec::with_capacity(n);
-        for a in 0..n {
-            let mut p = Poly::zero();
-            for k in 0..3 {
-                p.add_assign(&inv.s_bar.get(k, a).mul(&a_bar[k]));
-                p.add_assign(&i_tf[a][k].mul(&alpha[k]));
-            }
-            for b in 0..n {
-                p.add_assign(&inv.m_ff.get(a, b).mul(&Poly::var(qdd(b))));
-            }
-            for k in 0..3 {
-                for l in 0..3 {
-                    if !w2[k][l].is_zero() {
-                        let mut v = inv.i_kl[l][k][a].clone();
-                        for b in 0..n {
-                            v.add_assign(&inv.s_kl[k][l].get(a, b).mul(&Poly::var(q(b))));
-                        }
-                        p.add_assign(&w2[k][l].mul(&v));
-                    }
-                    if !w1[k][l].is_zero() {
-                        let mut v = Poly::zero();
-                        for b in 0..n {
-                            v.add_assign(&inv.s_kl[k][l].get(a, b).mul(&Poly::var(qd(b))));
-                        }
-                        p.add_assign(&w1[k][l].mul(&v).scale(&rat(2, 1)));
-                    }
-                }
-            }
-            let mut el = Poly::zero();
-            for b in 0..n {
-                el.add_assign(&inv.k_ff.get(a, b).mul(&Poly::var(q(b))));
-            }
-            if let Some(e) = &energy_grad {
-                el.add_assign(&dag.derivative(e, q(a)));
-            }
-            inertial.push(p.clone());
-            p.add_assign(&el);
-            f_e.push(p);
-            elastic.push(el);
-        }
-
-        // Elastic energy ½ qᵀ K q + U_nl.
-        let mut energy_poly = bilinear(&inv.k_ff, q, q).scale(&rat(1, 2));
-        if let Some(e) = &energy_grad {
-            energy_poly.add_assign(e);
-        }
-        let energy = vec![((OutArr::Energy, 0), energy_poly)];
-
-        // Derivatives.
-        let frame_syms: Vec<(usize, Sym)> = (0..9)
-            .filter(|&k| live(k))
-            .map(|k| (k, Sym::Frame(k as u8)))
-            .collect();
-        let combined = |dag: &mut Dag, fp: &Poly, b: usize| -> Poly {
-            let dq = dag.derivative(fp, q(b));
-            let dqd = dag.derivative(fp, qd(b));
-            let dqdd = dag.derivative(fp, qdd(b));
-            dq.add(&dqd.mul(&Poly::var(Sym::Gp)))
-                .add(&dqdd.mul(&Poly::var(Sym::Bp)))
-        };
+        let Equations {
+            mass,
+            residual,
+            tangent,
+            residual_elastic,
+            tangent_elastic,
+            force_elastic,
+            energy,
+        } = equations(&inv, energy_form.as_ref(), inputs, &mut dag);
         let push = |out: &mut Outputs, arr: OutArr, idx: usize, p: Poly| {
             if !p.is_zero() {
                 out.push(((arr, idx as u32), p));
             }
-        };
-        let refs: Vec<&Poly> = f_r.iter().chain(f_th.iter()).collect();
-
-        // Mass kernel: acceleration-linear blocks and S_t.
-        let mut mass = Outputs::new();
-        for k in 0..3 {
-            push(&mut mass, OutArr::St, k, s_t[k].clone());
-        }
-        for a in 0..n {
-            for b in 0..n {
-                push(
-                    &mut mass,
-                    OutArr::Mee,
-                    a * n + b,
-                    inv.m_ff.get(a, b).clone(),
-                );
-            }
-            for k in 0..6 {
-                if live(k) {
-                    let d = dag.derivative(&f_e[a], Sym::Frame(k as u8));
-                    push(&mut mass, OutArr::MeFrame, a * 6 + k, d);
-                }
-            }
-        }
-        for (r, fp) in refs.iter().enumerate() {
-            for b in 0..n {
-                let d = dag.derivative(fp, qdd(b));
-                push(&mut mass, OutArr::MrefE, r * n + b, d);
-            }
-            for k in 0..6 {
-                if live(k) {
-                    let d = dag.derivative(fp, Sym::Frame(k as u8));
-                    push(&mut mass, OutArr::MrefFrame, r * 6 + k, d);
-                }
-            }
-        }
-
-        // Residual and tangent kernels.
-        let mut residual_elastic = Outputs::new();
-        for (a, p) in f_e.iter().enumerate() {
-            push(&mut residual_elastic, OutArr::Fe, a, p.clone());
-        }
-        let force_elastic = energy_grad.is_some().then(|| {
-            let mut out = Outputs::new();
-            for (a, p) in elastic.iter().enumerate() {
-                push(&mut out, OutArr::Fe, a, p.clone());
-            }
-            out
-        });
-        let mut tangent_elastic = residual_elastic.clone();
-        // K_ee = (inertial part, by the chain rule) + the elastic Hessian,
-        // symmetric: each pair computed once and named.
-        let mut hess = vec![vec![Poly::zero(); n]; n];
-        for a in 0..n {
-            for b in a..n {
-                let h = dag.derivative(&elastic[a], q(b));
-                let h = dag.bind(&format!("k_t_{a}_{b}"), h);
-                hess[b][a] = h.clone();
-                hess[a][b] = h;
-            }
-        }
-        let mut k_ee = Vec::new();
-        for a in 0..n {
-            for b in 0..n {
-                let t = combined(&mut dag, &inertial[a], b).add(&hess[a][b]);
-                k_ee.push(((OutArr::Kee, (a * n + b) as u32), t));
-            }
-        }
-        tangent_elastic.extend(k_ee.iter().filter(|(_, p)| !p.is_zero()).cloned());
-
-        let (residual, tangent) = if self.options.frame.is_free() {
-            let mut res = Outputs::new();
-            for k in 0..3 {
-                push(&mut res, OutArr::Fr, k, f_r[k].clone());
-                push(&mut res, OutArr::Fth, k, f_th[k].clone());
-            }
-            res.extend(residual_elastic.iter().cloned());
-            let mut tan = res.clone();
-            tan.extend(k_ee.iter().filter(|(_, p)| !p.is_zero()).cloned());
-            for a in 0..n {
-                for &(k, s) in &frame_syms {
-                    let d = dag.derivative(&f_e[a], s);
-                    push(&mut tan, OutArr::DeFrame, a * 9 + k, d);
-                }
-            }
-            for (r, fp) in refs.iter().enumerate() {
-                for b in 0..n {
-                    let t = combined(&mut dag, fp, b);
-                    push(&mut tan, OutArr::KrefE, r * n + b, t);
-                }
-                for &(k, s) in &frame_syms {
-                    let d = dag.derivative(fp, s);
-                    push(&mut tan, OutArr::DrefFrame, r * 9 + k, d);
-                }
-            }
-            (Some(res), Some(tan))
-        } else {
-            (None, None)
         };
 
         // The stiffening energy in its element scalars, with the scalars as
@@ -617,6 +314,383 @@ impl KernelModel {
             element_invariants,
             point_shape,
         })
+    }
+}
+
+/// Which frame inputs the equations have and which rows they keep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FrameInputs {
+    /// Planar scene: frame motion in the x–y plane (`ā_z = α_x = α_y =
+    /// ω_x = ω_y = 0`).
+    pub planar: bool,
+    /// `ā ≡ 0` (frame origin fixed, no gravity).
+    pub zero_acceleration: bool,
+    /// Whether the reference rows (`residual`, `tangent`) are formed.
+    pub free: bool,
+}
+
+/// The equations of motion of one set of invariants (see the module
+/// documentation) as kernel outputs: what [`equations`] returns.
+#[derive(Clone, Debug)]
+pub struct Equations {
+    /// `mass(q)`: `S_t` and the acceleration-linear blocks.
+    pub mass: Outputs,
+    /// `residual(q, q̇, q̈, frame)` with the reference rows (free frame only).
+    pub residual: Option<Outputs>,
+    /// `tangent(…)`: the residual and its derivatives (free frame only).
+    pub tangent: Option<Outputs>,
+    /// `f_e` only.
+    pub residual_elastic: Outputs,
+    /// `f_e` and `K_ee`.
+    pub tangent_elastic: Outputs,
+    /// `K q + ∇U_nl` alone (with a stiffening energy only).
+    pub force_elastic: Option<Outputs>,
+    /// Elastic energy `½ qᵀ K q + U_nl`.
+    pub energy: Outputs,
+}
+
+/// The equations of motion in body axes of the invariants `inv` over its
+/// `n = inv.nf` coordinates (`Sym::Q`, `Sym::Qd`, `Sym::Qdd`) and the frame
+/// inputs `inputs`, with the elastic force `K q` (`inv.k_ff`; a zero matrix
+/// leaves it out) and, if given, the gradient of the stiffening energy
+/// `energy_form` (its element scalars bound in `dag`). The invariants may be
+/// polynomials in the parameters (an element's) or numbers (a modal body's,
+/// `crate::modal::exact_invariants`): one path for both.
+pub fn equations(
+    inv: &ExactInvariants,
+    energy_form: Option<&ElementEnergy>,
+    inputs: FrameInputs,
+    dag: &mut Dag,
+) -> Equations {
+    let n = inv.nf;
+    // Frame inputs (zero where a planar scene has none).
+    let planar = inputs.planar;
+    let zero_a = inputs.zero_acceleration;
+    let live = |k: usize| !((planar && matches!(k, 2 | 3 | 4 | 6 | 7)) || (zero_a && k < 3));
+    let f = |k: usize| if live(k) { frame(k) } else { Poly::zero() };
+    let a_bar = [f(0), f(1), f(2)];
+    let alpha = [f(3), f(4), f(5)];
+    let w = [f(6), f(7), f(8)];
+    // ω̃ and ω̃² = ω ωᵀ − |ω|² I.
+    let zero = Poly::zero();
+    let w1: [[Poly; 3]; 3] = [
+        [zero.clone(), w[2].scale(&rat(-1, 1)), w[1].clone()],
+        [w[2].clone(), zero.clone(), w[0].scale(&rat(-1, 1))],
+        [w[1].scale(&rat(-1, 1)), w[0].clone(), zero.clone()],
+    ];
+    let wsq = w[0].mul(&w[0]).add(&w[1].mul(&w[1])).add(&w[2].mul(&w[2]));
+    let w2: [[Poly; 3]; 3] = std::array::from_fn(|k| {
+        std::array::from_fn(|l| {
+            let mut v = w[k].mul(&w[l]);
+            if k == l {
+                v = v.sub(&wsq);
+            }
+            v
+        })
+    });
+
+    // Intermediates of q.
+    let s_t: [Poly; 3] = std::array::from_fn(|k| {
+        let p = inv.s_t0[k].add(&linear(
+            &(0..n)
+                .map(|a| inv.s_bar.get(k, a).clone())
+                .collect::<Vec<_>>(),
+            q,
+        ));
+        dag.bind(&format!("s_t_{}", AXES[k]), p)
+    });
+    let mut u: [[Poly; 3]; 3] = Default::default();
+    for k in 0..3 {
+        for l in k..3 {
+            let lin: Vec<Poly> = (0..n)
+                .map(|a| inv.i_kl[k][l][a].add(&inv.i_kl[l][k][a]))
+                .collect();
+            let p = inv.theta[k][l]
+                .add(&linear(&lin, q))
+                .add(&bilinear(&inv.s_kl[k][l], q, q));
+            let z = dag.bind(&format!("u_{}{}", AXES[k], AXES[l]), p);
+            u[k][l] = z.clone();
+            u[l][k] = z;
+        }
+    }
+    let tr = u[0][0].add(&u[1][1]).add(&u[2][2]);
+    let i_tt: [[Poly; 3]; 3] = std::array::from_fn(|k| {
+        std::array::from_fn(|l| {
+            let m = u[k][l].scale(&rat(-1, 1));
+            if k == l {
+                m.add(&tr)
+            } else {
+                m
+            }
+        })
+    });
+    // Ī_θf rows r = 0, 1, 2 from (a, b) = (y, z), (z, x), (x, y).
+    let cyc = [(1, 2), (2, 0), (0, 1)];
+    let i_tf: Vec<[Poly; 3]> = (0..n)
+        .map(|a| {
+            std::array::from_fn(|r| {
+                let (ka, kb) = cyc[r];
+                let mut p = inv.i_kl[ka][kb][a].sub(&inv.i_kl[kb][ka][a]);
+                for c in 0..n {
+                    let s = inv.s_kl[ka][kb].get(c, a).sub(inv.s_kl[kb][ka].get(c, a));
+                    if !s.is_zero() {
+                        p.add_assign(&s.mul(&Poly::var(q(c))));
+                    }
+                }
+                dag.bind(&format!("i_tf_{}_{a}", AXES[r]), p)
+            })
+        })
+        .collect();
+    // S̄ q̇, S̄ q̈ and P_kl = Ī_kl q̇ + qᵀ S̄_kl q̇.
+    let row = |k: usize| {
+        (0..n)
+            .map(|a| inv.s_bar.get(k, a).clone())
+            .collect::<Vec<_>>()
+    };
+    let sbar_qd: [Poly; 3] = std::array::from_fn(|k| linear(&row(k), qd));
+    let sbar_qdd: [Poly; 3] = std::array::from_fn(|k| linear(&row(k), qdd));
+    let p_kl: [[Poly; 3]; 3] = std::array::from_fn(|k| {
+        std::array::from_fn(|l| {
+            let p = linear(&inv.i_kl[k][l], qd).add(&bilinear(&inv.s_kl[k][l], q, qd));
+            dag.bind(&format!("p_{}{}", AXES[k], AXES[l]), p)
+        })
+    });
+
+    // f_r = m ā − S_t × α + S̄ q̈ + ω̃² S_t + 2 ω̃ S̄ q̇.
+    let st_x_alpha = cross(&s_t, &alpha);
+    let w2_st = mat_vec(&w2, &s_t);
+    let w1_sqd = mat_vec(&w1, &sbar_qd);
+    let f_r: [Poly; 3] = std::array::from_fn(|k| {
+        inv.mass
+            .mul(&a_bar[k])
+            .sub(&st_x_alpha[k])
+            .add(&sbar_qdd[k])
+            .add(&w2_st[k])
+            .add(&w1_sqd[k].scale(&rat(2, 1)))
+    });
+    // f_θ = S_t × ā + Ī_θθ α + Ī_θf q̈ + ω × (Ī_θθ ω) + 2 (tr P ω − Pᵀ ω).
+    let st_x_a = cross(&s_t, &a_bar);
+    let i_alpha = mat_vec(&i_tt, &alpha);
+    let i_w = mat_vec(&i_tt, &w);
+    let gyro = cross(&w, &i_w);
+    let tr_p = p_kl[0][0].add(&p_kl[1][1]).add(&p_kl[2][2]);
+    let p_t: [[Poly; 3]; 3] = std::array::from_fn(|k| std::array::from_fn(|l| p_kl[l][k].clone()));
+    let pt_w = mat_vec(&p_t, &w);
+    let f_th: [Poly; 3] = std::array::from_fn(|k| {
+        let mut itf_qdd = Poly::zero();
+        for (a, row) in i_tf.iter().enumerate() {
+            itf_qdd.add_assign(&row[k].mul(&Poly::var(qdd(a))));
+        }
+        st_x_a[k]
+            .add(&i_alpha[k])
+            .add(&itf_qdd)
+            .add(&gyro[k])
+            .add(&w[k].mul(&tr_p).sub(&pt_w[k]).scale(&rat(2, 1)))
+    });
+    // f_e.
+    let energy_grad = energy_form.map(|ef| {
+        // Element scalars, then derived scalars, then the energy: the
+        // chain rule runs through them (Sym::Z ids of the form → DAG).
+        let mut zs: Vec<Poly> = ef
+            .scalars
+            .iter()
+            .zip(&ef.names)
+            .map(|(form, name)| dag.bind_always(name, linear(form, q)))
+            .collect();
+        // Energy-local Z(j) → the DAG's symbols, all at once.
+        let subst = |p: &Poly, zs: &[Poly]| {
+            let ids: Vec<Sym> = zs
+                .iter()
+                .map(|z| match z.terms().next().map(|(m, _)| m.factors()) {
+                    Some([(s, 1)]) => *s,
+                    _ => unreachable!("bind_always returns a symbol"),
+                })
+                .collect();
+            p.rename(|s| match s {
+                Sym::Z(j) => Some(ids[j as usize]),
+                other => Some(other),
+            })
+        };
+        for (name, def) in &ef.derived {
+            let d = subst(def, &zs);
+            zs.push(dag.bind_always(name, d));
+        }
+        let e = subst(&ef.energy, &zs);
+        dag.bind_always("u_nl", e)
+    });
+    let mut f_e = Vec::with_capacity(n);
+    let mut elastic = Vec::with_capacity(n);
+    let mut inertial = Vec::with_capacity(n);
+    for a in 0..n {
+        let mut p = Poly::zero();
+        for k in 0..3 {
+            p.add_assign(&inv.s_bar.get(k, a).mul(&a_bar[k]));
+            p.add_assign(&i_tf[a][k].mul(&alpha[k]));
+        }
+        for b in 0..n {
+            p.add_assign(&inv.m_ff.get(a, b).mul(&Poly::var(qdd(b))));
+        }
+        for k in 0..3 {
+            for l in 0..3 {
+                if !w2[k][l].is_zero() {
+                    let mut v = inv.i_kl[l][k][a].clone();
+                    for b in 0..n {
+                        v.add_assign(&inv.s_kl[k][l].get(a, b).mul(&Poly::var(q(b))));
+                    }
+                    p.add_assign(&w2[k][l].mul(&v));
+                }
+                if !w1[k][l].is_zero() {
+                    let mut v = Poly::zero();
+                    for b in 0..n {
+                        v.add_assign(&inv.s_kl[k][l].get(a, b).mul(&Poly::var(qd(b))));
+                    }
+                    p.add_assign(&w1[k][l].mul(&v).scale(&rat(2, 1)));
+                }
+            }
+        }
+        let mut el = Poly::zero();
+        for b in 0..n {
+            el.add_assign(&inv.k_ff.get(a, b).mul(&Poly::var(q(b))));
+        }
+        if let Some(e) = &energy_grad {
+            el.add_assign(&dag.derivative(e, q(a)));
+        }
+        inertial.push(p.clone());
+        p.add_assign(&el);
+        f_e.push(p);
+        elastic.push(el);
+    }
+
+    // Elastic energy ½ qᵀ K q + U_nl.
+    let mut energy_poly = bilinear(&inv.k_ff, q, q).scale(&rat(1, 2));
+    if let Some(e) = &energy_grad {
+        energy_poly.add_assign(e);
+    }
+    let energy = vec![((OutArr::Energy, 0), energy_poly)];
+
+    // Derivatives.
+    let frame_syms: Vec<(usize, Sym)> = (0..9)
+        .filter(|&k| live(k))
+        .map(|k| (k, Sym::Frame(k as u8)))
+        .collect();
+    let combined = |dag: &mut Dag, fp: &Poly, b: usize| -> Poly {
+        let dq = dag.derivative(fp, q(b));
+        let dqd = dag.derivative(fp, qd(b));
+        let dqdd = dag.derivative(fp, qdd(b));
+        dq.add(&dqd.mul(&Poly::var(Sym::Gp)))
+            .add(&dqdd.mul(&Poly::var(Sym::Bp)))
+    };
+    let push = |out: &mut Outputs, arr: OutArr, idx: usize, p: Poly| {
+        if !p.is_zero() {
+            out.push(((arr, idx as u32), p));
+        }
+    };
+    let refs: Vec<&Poly> = f_r.iter().chain(f_th.iter()).collect();
+
+    // Mass kernel: acceleration-linear blocks and S_t.
+    let mut mass = Outputs::new();
+    for k in 0..3 {
+        push(&mut mass, OutArr::St, k, s_t[k].clone());
+    }
+    for a in 0..n {
+        for b in 0..n {
+            push(
+                &mut mass,
+                OutArr::Mee,
+                a * n + b,
+                inv.m_ff.get(a, b).clone(),
+            );
+        }
+        for k in 0..6 {
+            if live(k) {
+                let d = dag.derivative(&f_e[a], Sym::Frame(k as u8));
+                push(&mut mass, OutArr::MeFrame, a * 6 + k, d);
+            }
+        }
+    }
+    for (r, fp) in refs.iter().enumerate() {
+        for b in 0..n {
+            let d = dag.derivative(fp, qdd(b));
+            push(&mut mass, OutArr::MrefE, r * n + b, d);
+        }
+        for k in 0..6 {
+            if live(k) {
+                let d = dag.derivative(fp, Sym::Frame(k as u8));
+                push(&mut mass, OutArr::MrefFrame, r * 6 + k, d);
+            }
+        }
+    }
+
+    // Residual and tangent kernels.
+    let mut residual_elastic = Outputs::new();
+    for (a, p) in f_e.iter().enumerate() {
+        push(&mut residual_elastic, OutArr::Fe, a, p.clone());
+    }
+    let force_elastic = energy_grad.is_some().then(|| {
+        let mut out = Outputs::new();
+        for (a, p) in elastic.iter().enumerate() {
+            push(&mut out, OutArr::Fe, a, p.clone());
+        }
+        out
+    });
+    let mut tangent_elastic = residual_elastic.clone();
+    // K_ee = (inertial part, by the chain rule) + the elastic Hessian,
+    // symmetric: each pair computed once and named.
+    let mut hess = vec![vec![Poly::zero(); n]; n];
+    for a in 0..n {
+        for b in a..n {
+            let h = dag.derivative(&elastic[a], q(b));
+            let h = dag.bind(&format!("k_t_{a}_{b}"), h);
+            hess[b][a] = h.clone();
+            hess[a][b] = h;
+        }
+    }
+    let mut k_ee = Vec::new();
+    for a in 0..n {
+        for b in 0..n {
+            let t = combined(dag, &inertial[a], b).add(&hess[a][b]);
+            k_ee.push(((OutArr::Kee, (a * n + b) as u32), t));
+        }
+    }
+    tangent_elastic.extend(k_ee.iter().filter(|(_, p)| !p.is_zero()).cloned());
+
+    let (residual, tangent) = if inputs.free {
+        let mut res = Outputs::new();
+        for k in 0..3 {
+            push(&mut res, OutArr::Fr, k, f_r[k].clone());
+            push(&mut res, OutArr::Fth, k, f_th[k].clone());
+        }
+        res.extend(residual_elastic.iter().cloned());
+        let mut tan = res.clone();
+        tan.extend(k_ee.iter().filter(|(_, p)| !p.is_zero()).cloned());
+        for a in 0..n {
+            for &(k, s) in &frame_syms {
+                let d = dag.derivative(&f_e[a], s);
+                push(&mut tan, OutArr::DeFrame, a * 9 + k, d);
+            }
+        }
+        for (r, fp) in refs.iter().enumerate() {
+            for b in 0..n {
+                let t = combined(dag, fp, b);
+                push(&mut tan, OutArr::KrefE, r * n + b, t);
+            }
+            for &(k, s) in &frame_syms {
+                let d = dag.derivative(fp, s);
+                push(&mut tan, OutArr::DrefFrame, r * 9 + k, d);
+            }
+        }
+        (Some(res), Some(tan))
+    } else {
+        (None, None)
+    };
+    Equations {
+        mass,
+        residual,
+        tangent,
+        residual_elastic,
+        tangent_elastic,
+        force_elastic,
+        energy,
     }
 }
 

@@ -130,6 +130,7 @@ pub fn expand(input: &FlexBodyInput) -> Result<FlexBody, FlexBodyError> {
             settings,
             has_sections,
             &set.params_used(),
+            model.scene(),
         )?);
     }
     Ok(FlexBody {
@@ -155,6 +156,7 @@ fn modal_items(
     settings: &ffr_spec::scene::ModalSettings,
     has_sections: bool,
     used: &[crate::poly::Param],
+    scene: ffr_spec::SceneDim,
 ) -> Result<String, FlexBodyError> {
     let bad = |e: String| FlexBodyError::Modal(format!("modal body: {e}"));
     if has_sections {
@@ -167,8 +169,15 @@ fn modal_items(
     let model = crate::modal::ModalModel::of_body(spec, p, settings, input.options.stiffening)
         .map_err(|e| bad(e.to_string()))?;
     let description = crate::emit::modal_description(&model, spec, p);
-    crate::emit::modal_items(&model, p, &description, input.type_name, input.runtime_path)
-        .map_err(|e| bad(e.to_string()))
+    crate::emit::modal_items(
+        &model,
+        p,
+        &description,
+        input.type_name,
+        input.runtime_path,
+        scene,
+    )
+    .map_err(|e| bad(e.to_string()))
 }
 
 #[cfg(not(feature = "modal"))]
@@ -179,6 +188,7 @@ fn modal_items(
     _: &ffr_spec::scene::ModalSettings,
     _: bool,
     _: &[crate::poly::Param],
+    _: ffr_spec::SceneDim,
 ) -> Result<String, FlexBodyError> {
     Err(FlexBodyError::Modal(
         "`modes` needs the feature `modal` of ffr (the modal reduction in the attribute's generator)"

@@ -157,3 +157,42 @@ fn the_same_file_text_gives_the_same_code_through_a_user_path() {
     assert_eq!(from_file.source_hash, builtin.source_hash);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A modal body's file, its header and the modal items (the full body's
+/// kernels are pinned above): `BeamModal` with its generated inertia
+/// kernels `BeamModalKernels` (beam2, 2 elements, 2 modes, no static modes,
+/// no stiffening: the linear elastic force is in the kernels).
+#[cfg(feature = "modal")]
+#[test]
+fn beam2_modal_body() {
+    use ffr_codegen::modal::ModalModel;
+    use ffr_codegen::{BodySpec, EmitOptions, ModalSettings, Params};
+    let shape = Shape::resolve("beam2", None).unwrap();
+    let spec = BodySpec::new(shape.clone(), 2, Reference::Clamped).unwrap();
+    let p = Params {
+        length: 2.0,
+        rho: 2700.0,
+        area: 3e-4,
+        iy: 0.0,
+        iz: 4e-9,
+        e: 7e10,
+        g: 0.0,
+        j: 0.0,
+    };
+    let settings = ModalSettings {
+        static_modes: false,
+        ..ModalSettings::truncation(2)
+    };
+    let model = ModalModel::of_body(&spec, &p, &settings, Stiffening::Off).unwrap();
+    let set = generate_kernels(&KernelModel::new(shape, KernelOptions::new())).unwrap();
+    let opts = EmitOptions {
+        type_name: "Beam".into(),
+        ..EmitOptions::default()
+    };
+    let file = ffr_codegen::emit::emit_modal_body_file(&set, &spec, &opts, &model, &p).unwrap();
+    let header_end = file.find("\n\n").unwrap();
+    let modal = file
+        .find("/// The body `Beam` at fixed parameters")
+        .unwrap();
+    insta::assert_snapshot!(format!("{}\n[…]\n{}", &file[..header_end], &file[modal..]));
+}

@@ -186,6 +186,9 @@ fn emit_modes_prints_a_modal_body() {
     assert!(ok, "{err}");
     assert!(out.contains("pub struct LinkModal;"));
     assert!(out.contains("pub const CONSTS: ::ffr::runtime::ModalConsts"));
+    // Its inertia equations as generated kernels, with their op counts.
+    assert!(out.contains("impl ::ffr::runtime::ModalKernels for LinkModalKernels"));
+    assert!(out.contains("//   Operations per call:"));
     assert!(
         out.contains("labels: &[\"mode_1\", \"mode_2\"]"),
         "no static modes unless asked"

@@ -30,6 +30,9 @@ pub mod linalg;
 pub mod linear;
 pub mod marker;
 pub mod modal;
+pub mod modal_kernels;
+#[cfg(feature = "tape")]
+pub mod modal_tape;
 pub mod monitor;
 pub mod nodal;
 pub mod rigid;
@@ -55,6 +58,7 @@ pub use kernel::{
 pub use kernel_body::KernelBody;
 pub use marker::{BodyId, Marker};
 pub use modal::{ModalBody, ModalConsts, ModalData};
+pub use modal_kernels::ModalKernels;
 pub use monitor::Monitor;
 pub use nalgebra;
 pub use nodal::NodalBody;

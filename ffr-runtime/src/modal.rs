@@ -21,6 +21,8 @@ use crate::body::{
 };
 use crate::error::{Error, Result};
 use crate::inertia::{bilinear, dot_slices, InertiaTerms, Inputs};
+use crate::kernel::{KernelInput, MassOut, ResidualOut, TangentOut};
+use crate::modal_kernels::ModalKernels;
 use nalgebra::DMatrix;
 
 /// What a modal body is made of (see [`ModalBody::new`]).
@@ -149,6 +151,9 @@ pub struct ModalBody {
     layout: BodyLayout,
     /// The equations of the projected invariants, with `∂U_nl/∂η`.
     terms: InertiaTerms,
+    /// Generated kernels of the same equations, used in place of `terms`
+    /// ([`ModalBody::with_kernels`]).
+    kernels: Option<Box<dyn ModalKernels>>,
     /// `0, 1, …, k − 1`: the modes are the body's coordinates.
     identity: Vec<usize>,
     /// `Φ` row-major (row `i`, the modes' values at coordinate `i`,
@@ -254,6 +259,7 @@ impl std::fmt::Debug for ModalBody {
         f.debug_struct("ModalBody")
             .field("layout", &self.layout)
             .field("modes", &self.data.labels)
+            .field("generated_kernels", &self.kernels.is_some())
             .finish()
     }
 }
@@ -336,11 +342,74 @@ impl ModalBody {
             inner,
             layout,
             terms,
+            kernels: None,
             identity: (0..k).collect(),
             phi_rows: data.phi.transpose().as_slice().to_vec(),
             scalars,
             data,
         })
+    }
+
+    /// [`ModalBody::new`] whose mass blocks, forces and tangent come from
+    /// generated kernels of its inertia equations (`kernels`, e.g. the
+    /// `{Type}ModalKernels` of `ffr emit --modes`) instead of the run-time
+    /// equations; the stiffening, energy, point shapes and damping are
+    /// [`ModalBody::new`]'s. An error if the kernels are not for this body's
+    /// modes, scene or elastic model.
+    pub fn with_kernels(
+        inner: Box<dyn Body>,
+        data: ModalData,
+        kernels: Box<dyn ModalKernels>,
+    ) -> Result<Self> {
+        let mut body = Self::new(inner, data)?;
+        let k = body.layout.nf;
+        if kernels.modes() != k
+            || kernels.scene_dim() != body.layout.scene_dim
+            || kernels.linear_elastic() == body.data.stiffening
+        {
+            return Err(Error::InvalidInput(format!(
+                "modal body: kernels for {} modes, scene dimension {}, linear elastic force {}; the body has {k} modes, scene dimension {}, stiffening {}",
+                kernels.modes(),
+                kernels.scene_dim(),
+                kernels.linear_elastic(),
+                body.layout.scene_dim,
+                body.data.stiffening
+            )));
+        }
+        body.kernels = Some(kernels);
+        Ok(body)
+    }
+
+    /// Whether the inertia equations run through generated kernels
+    /// ([`ModalBody::with_kernels`]) rather than the run-time equations.
+    pub fn uses_generated_kernels(&self) -> bool {
+        self.kernels.is_some()
+    }
+
+    /// Length of the work buffer the stiffening uses (at its start).
+    fn stiffening_len(&self) -> usize {
+        if !self.data.stiffening {
+            return 0;
+        }
+        let n = self.inner.layout().nf;
+        let k = self.layout.nf;
+        let scalars = self.scalars.as_ref().map_or(0, |s| s.work_len(k));
+        n * (2 + k) + k * k + scalars
+    }
+
+    /// The generated kernels and their work (a `k × k` block, then the
+    /// kernels' scratch) after the stiffening's: `None` without kernels, or
+    /// when `w` is not this body's work (the run-time equations then serve).
+    fn kernel_work<'a>(
+        &'a self,
+        w: &'a mut BodyWork,
+    ) -> Option<(&'a dyn ModalKernels, &'a mut [f64], &'a mut [f64])> {
+        let kern = self.kernels.as_deref()?;
+        let k = self.layout.nf;
+        let off = self.stiffening_len();
+        let buf = w.buf.get_mut(off..off + k * k + kern.scratch())?;
+        let (dense, scratch) = buf.split_at_mut(k * k);
+        Some((kern, dense, scratch))
     }
 
     /// The data the body was made from.
@@ -654,15 +723,23 @@ impl Body for ModalBody {
     }
 
     fn work(&self) -> BodyWork {
+        // The generated kernels' dense block and scratch, after the
+        // stiffening's work.
+        let k = self.layout.nf;
+        let kernels = self
+            .kernels
+            .as_ref()
+            .map_or(0, |kern| k * k + kern.scratch());
         if !self.data.stiffening {
-            return BodyWork::default();
+            return BodyWork {
+                buf: vec![0.0; kernels],
+                inner: None,
+            };
         }
         // q_f = Φ η, zero velocities and accelerations, K_t Φ, Φᵀ K_t Φ.
         let (n, hb) = (self.inner.layout().nf, self.inner.layout().half_bandwidth);
-        let k = self.layout.nf;
-        let scalars = self.scalars.as_ref().map_or(0, |s| s.work_len(k));
         BodyWork {
-            buf: vec![0.0; n * (2 + k) + k * k + scalars],
+            buf: vec![0.0; self.stiffening_len() + kernels],
             inner: Some(Box::new(InnerWork {
                 work: self.inner.work(),
                 forces: BodyForces::zeros(n),
@@ -673,8 +750,22 @@ impl Body for ModalBody {
 
     fn forces(&self, state: &BodyState, frame_rows: bool, w: &mut BodyWork, out: &mut BodyForces) {
         out.clear();
-        self.terms
-            .add_forces(&Inputs::of(state), frame_rows, &self.identity, out);
+        if let Some((kern, _, scratch)) = self.kernel_work(w) {
+            let x = kernel_input(state);
+            if frame_rows {
+                let mut r = ResidualOut {
+                    f_r: &mut out.f_r,
+                    f_th: &mut out.f_th,
+                    f_e: &mut out.f_f,
+                };
+                kern.residual(&x, &mut r, scratch);
+            } else {
+                kern.residual_elastic(&x, &mut out.f_f, scratch);
+            }
+        } else {
+            self.terms
+                .add_forces(&Inputs::of(state), frame_rows, &self.identity, out);
+        }
         if self.data.stiffening {
             self.stiffening(state.q_f, w, &mut out.f_f, None);
         }
@@ -692,18 +783,51 @@ impl Body for ModalBody {
     ) {
         out.clear();
         t.clear();
-        let x = Inputs::of(state);
-        self.terms.add_forces(&x, frame_rows, &self.identity, out);
-        self.terms
-            .add_tangent(&x, bp, gp, frame_rows, &self.identity, t);
+        if let Some((kern, k_ee, scratch)) = self.kernel_work(w) {
+            let x = kernel_input(state);
+            k_ee.iter_mut().for_each(|v| *v = 0.0);
+            if frame_rows {
+                let mut o = TangentOut {
+                    f_r: &mut out.f_r,
+                    f_th: &mut out.f_th,
+                    f_e: &mut out.f_f,
+                    k_ee: &mut *k_ee,
+                    d_e_frame: &mut t.d_f_frame,
+                    k_ref_e: &mut t.k_ref_f,
+                    d_ref_frame: &mut t.d_ref_frame,
+                };
+                kern.tangent(&x, bp, gp, &mut o, scratch);
+            } else {
+                kern.tangent_elastic(&x, bp, gp, &mut out.f_f, k_ee, scratch);
+            }
+            add_dense(&mut t.k_ff, k_ee, self.layout.nf);
+        } else {
+            let x = Inputs::of(state);
+            self.terms.add_forces(&x, frame_rows, &self.identity, out);
+            self.terms
+                .add_tangent(&x, bp, gp, frame_rows, &self.identity, t);
+        }
         if self.data.stiffening {
             self.stiffening(state.q_f, w, &mut out.f_f, Some(&mut t.k_ff));
         }
     }
 
-    fn mass(&self, q_f: &[f64], _w: &mut BodyWork, out: &mut BodyMass) {
+    fn mass(&self, q_f: &[f64], w: &mut BodyWork, out: &mut BodyMass) {
         out.clear();
-        self.terms.add_mass(q_f, &self.identity, out);
+        let Some((kern, m_ee, scratch)) = self.kernel_work(w) else {
+            self.terms.add_mass(q_f, &self.identity, out);
+            return;
+        };
+        m_ee.iter_mut().for_each(|v| *v = 0.0);
+        let mut o = MassOut {
+            s_t: &mut out.s_t,
+            m_ee: &mut *m_ee,
+            m_e_frame: &mut out.m_f_frame,
+            m_ref_e: &mut out.m_ref_f,
+            m_ref_frame: &mut out.m_ref_frame,
+        };
+        kern.mass(q_f, &mut o, scratch);
+        add_dense(&mut out.m_ff, m_ee, self.layout.nf);
     }
 
     fn elastic_energy(&self, q_f: &[f64], w: &mut BodyWork) -> f64 {
@@ -747,5 +871,27 @@ impl Body for ModalBody {
             }
         }
         Some(out)
+    }
+}
+
+/// The kernel input of a body state (the modes are the coordinates).
+fn kernel_input<'a>(state: &'a BodyState<'a>) -> KernelInput<'a> {
+    KernelInput {
+        x0: 0.0,
+        q: state.q_f,
+        qd: state.qd_f,
+        qdd: state.qdd_f,
+        frame: &state.frame,
+    }
+}
+
+/// Adds a dense row-major `k × k` matrix to a band of half-bandwidth `k − 1`.
+fn add_dense(band: &mut BandBuf, m: &[f64], k: usize) {
+    for (a, row) in m.chunks_exact(k).enumerate() {
+        for (b, v) in row.iter().enumerate() {
+            if *v != 0.0 {
+                band.add(a, b, *v);
+            }
+        }
     }
 }

@@ -27,6 +27,7 @@
 mod basis;
 mod energy;
 mod invariants;
+mod kernels;
 mod model;
 
 #[cfg(feature = "fe")]
@@ -37,6 +38,7 @@ pub use basis::{
 };
 pub use energy::{project_energy, substitute_params, MAX_ENERGY_DEGREE};
 pub use invariants::{eval_poly, Invariants};
+pub use kernels::{exact_invariants, generate_modal_kernels, ModalKernelSet, MAX_GENERATED_MODES};
 pub use model::{describe_body, elastic_modes, ModalModel};
 
 /// What can go wrong in a modal reduction.

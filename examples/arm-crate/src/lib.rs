@@ -48,6 +48,33 @@ pub mod attr {
         pub iz: f64,
         pub e: f64,
     }
+
+    /// The KRB spin-up beam on 16 elements reduced at build time to its 4
+    /// lowest modes plus the static modes (8 modes in all), fourth-order
+    /// stiffening: `SpinUpBeam16Modal::body()` runs the generated
+    /// `SpinUpBeam16ModalKernels` (`examples/modal_speed.rs` times them
+    /// against the run-time equations).
+    #[ffr::flex_body(
+        shape = "beam2",
+        elements = 16,
+        reference = "clamped",
+        stiffening = true,
+        modes = 4,
+        params(
+            length = 8.0,
+            rho = 2766.67,
+            area = 7.2968e-5,
+            iz = 8.2189e-9,
+            e = 6.8952e10
+        )
+    )]
+    pub struct SpinUpBeam16 {
+        pub length: f64,
+        pub rho: f64,
+        pub area: f64,
+        pub iz: f64,
+        pub e: f64,
+    }
 }
 
 /// Scenes from `build.rs`: `scenes/two_links.toml` and the scenes shipped

@@ -121,10 +121,14 @@ fn options_are_the_same_both_ways() {
 }
 
 /// The modal body generated at build time (`BodyConfig::modes`: the basis
-/// and the projected invariants baked in as constants) is the runtime's
-/// modal body of the same beam and reduction (`ffr::modal::modal_body`,
-/// what a scene file with `modes = 2` builds): the same bits for
-/// everything it computes, at rest and deformed, and the same modes.
+/// and the projected invariants baked in as constants, the inertia
+/// equations as generated kernels) is the runtime's modal body of the same
+/// beam and reduction with the same generated programs on tapes
+/// (`ffr::modal::modal_body_tape`): the same bits for everything it
+/// computes, at rest and deformed, and the same modes; the constants are
+/// those of the runtime's modal body with the run-time equations
+/// (`ffr::modal::modal_body`, what a scene file with `modes = 2` builds;
+/// ffr-cli/tests/modal_body.rs compares the two sets of equations).
 #[test]
 fn generated_modal_body_is_the_runtime_one() {
     use arm_crate::built::{SpinUpBeam, SpinUpBeamModal};
@@ -135,7 +139,8 @@ fn generated_modal_body_is_the_runtime_one() {
     beam.reference = Reference::Clamped;
     beam.options.stiffening = Stiffening::FourthOrder;
     let settings = ffr::modal::ModalSettings::truncation(2);
-    let runtime = ffr::modal::modal_body(&beam, &settings).unwrap();
+    let runtime = ffr::modal::modal_body_tape(&beam, &settings).unwrap();
+    assert!(generated.uses_generated_kernels() && runtime.uses_generated_kernels());
     assert_eq!(generated.layout().labels, runtime.layout().labels);
     assert_eq!(generated.data().description, runtime.data().description);
     assert_eq!(generated.layout().nf, SpinUpBeamModal::MODES);
@@ -144,4 +149,29 @@ fn generated_modal_body_is_the_runtime_one() {
         <SpinUpBeam as CompiledBody>::NF
     );
     assert_eq!(sample_bits(&generated, 1e-3), sample_bits(&runtime, 1e-3));
+    let plain = ffr::modal::modal_body(&beam, &settings).unwrap();
+    assert!(!plain.uses_generated_kernels());
+    assert_eq!(generated.data().phi, plain.data().phi);
+    assert_eq!(generated.invariants(), plain.invariants());
+}
+
+/// The attribute's `SpinUpBeam16Modal` (16 beam2, 4 modes plus 14 static
+/// modes, fourth-order stiffening; its inertia equations as generated
+/// kernels) is the run-time reduction of the same beam with the same
+/// programs on tapes, bit for bit.
+#[test]
+fn attribute_modal_body_with_generated_kernels_is_the_tape_one() {
+    use arm_crate::attr::SpinUpBeam16Modal;
+    use ffr::kernels::BeamSpec;
+    use ffr::runtime::spec::{Reference, Stiffening};
+    let generated = SpinUpBeam16Modal::body().unwrap();
+    let mut beam = BeamSpec::new("beam2", 16, SpinUpBeam16Modal::params());
+    beam.reference = Reference::Clamped;
+    beam.options.stiffening = Stiffening::FourthOrder;
+    let settings = ffr::modal::ModalSettings::truncation(4);
+    let tape = ffr::modal::modal_body_tape(&beam, &settings).unwrap();
+    assert_eq!(SpinUpBeam16Modal::MODES, 18);
+    assert!(generated.uses_generated_kernels() && tape.uses_generated_kernels());
+    assert_eq!(generated.layout().labels, tape.layout().labels);
+    assert_eq!(sample_bits(&generated, 1e-3), sample_bits(&tape, 1e-3));
 }

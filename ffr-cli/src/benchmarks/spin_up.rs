@@ -10,7 +10,7 @@
 //! [`SpinUp::modal`] the beam is reduced to modes ([`ffr::modal`]).
 
 use ffr::kernels::{BeamSpec, FrameModel, Kernels};
-use ffr::modal::{modal_body, ModalSettings};
+use ffr::modal::{modal_body, modal_body_tape, ModalSettings};
 use ffr::runtime::spec::{Formalism, KernelOptions, Params, Reference, SceneDim, Stiffening};
 use ffr::runtime::{
     Driver, Error as RtError, GeneralizedAlpha, Integrator, KernelBody, ModalBody, PointShape,
@@ -290,10 +290,12 @@ pub fn modal_system(
     settings: &ModalSettings,
 ) -> Result<(System<ModalBody>, PointShape), Box<dyn std::error::Error>> {
     check_drive(cfg)?;
-    if cfg.force_tape {
-        return Err("a modal body does not run on tapes (--tape)".into());
-    }
-    let body = modal_body(&cfg.beam(), settings)?;
+    // With --tape the generated modal kernels run on tapes.
+    let body = if cfg.force_tape {
+        modal_body_tape(&cfg.beam(), settings)?
+    } else {
+        modal_body(&cfg.beam(), settings)?
+    };
     let tip = ffr::runtime::Body::point_shape(&body, cfg.params.length)?;
     let sys = hub_system(cfg, body)?;
     Ok((sys, tip))

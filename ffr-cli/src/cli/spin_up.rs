@@ -45,7 +45,8 @@ pub struct SpinUpArgs {
     /// Multiply Young's and shear moduli by this factor (stiffness studies).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub e_scale: f64,
-    /// Run the kernels on tapes instead of the compiled code (comparisons).
+    /// Run the kernels on tapes instead of the compiled code (comparisons);
+    /// with --modes, the modal body's generated inertia kernels on tapes.
     #[arg(long)]
     pub tape: bool,
     /// Run the general body (kernels for a spatial scene and a free frame)
