@@ -632,27 +632,38 @@ pub fn generate_scene(
             ))
         })
         .collect::<Result<Vec<_>, Error>>()?;
-    let modal = scene_modal_bodies(&spec, runtime_path)?;
+    let (modal, modal_kernels) = scene_modal_bodies(&spec, type_name, runtime_path)?;
     let scene = SceneKernels {
         origin,
         text: &text,
         spec: &spec,
         bodies,
         modal,
+        modal_kernels,
     };
     emit_scene_file(&scene, type_name, runtime_path)
 }
 
 /// The modal bodies of a scene reduced now, as `ModalConsts` expressions
 /// (equal elements of one section, no attached masses: the others are
-/// reduced when the scene is built, as `ffr run` does). A reduction that
-/// fails is an error naming the body and where `modes` is written.
+/// reduced when the scene is built, as `ffr run` does), and the generated
+/// inertia kernels of those with at most `MAX_GENERATED_MODES` modes. A
+/// reduction that fails is an error naming the body and where `modes` is
+/// written.
 #[cfg(all(feature = "scene", feature = "modal"))]
+#[allow(clippy::type_complexity)]
 fn scene_modal_bodies(
     spec: &ffr_spec::scene::SceneSpec,
+    type_name: &str,
     runtime_path: &str,
-) -> Result<Vec<(String, String)>, Error> {
+) -> Result<(Vec<(String, String)>, Vec<(String, String)>), Error> {
+    let scene = if spec.dim == 2 {
+        ffr_spec::SceneDim::Planar
+    } else {
+        ffr_spec::SceneDim::Spatial
+    };
     let mut out = Vec::new();
+    let mut kernels = Vec::new();
     for b in &spec.bodies {
         let ffr_spec::scene::BodyKind::Flexible(f) = &b.kind else {
             continue;
@@ -677,18 +688,28 @@ fn scene_modal_bodies(
             f.name.clone(),
             crate::emit::modal_consts(&model, &description, runtime_path)?,
         ));
+        if let Some(set) =
+            crate::modal::generate_modal_kernels(&model, scene).map_err(|e| bad(e.to_string()))?
+        {
+            kernels.push((
+                f.name.clone(),
+                crate::emit::scene_modal_kernel_items(&set, type_name, &f.name, runtime_path),
+            ));
+        }
     }
-    Ok(out)
+    Ok((out, kernels))
 }
 
 /// Without the `modal` feature a compiled scene's modal bodies are reduced
 /// when it is built.
 #[cfg(all(feature = "scene", not(feature = "modal")))]
+#[allow(clippy::type_complexity)]
 fn scene_modal_bodies(
     _: &ffr_spec::scene::SceneSpec,
     _: &str,
-) -> Result<Vec<(String, String)>, Error> {
-    Ok(Vec::new())
+    _: &str,
+) -> Result<(Vec<(String, String)>, Vec<(String, String)>), Error> {
+    Ok((Vec::new(), Vec::new()))
 }
 
 /// The stations of a body's section table ([`crate::sections::body_stations`]).

@@ -20,6 +20,13 @@ pub trait KernelProvider {
     fn modal(&self, _spec: &FlexSpec) -> Option<&'static crate::runtime::ModalConsts> {
         None
     }
+
+    /// The generated inertia kernels of a modal body reduced when the scene
+    /// was compiled ([`KernelProvider::modal`]), or `None`: the run-time
+    /// equations.
+    fn modal_kernels(&self, _spec: &FlexSpec) -> Option<Box<dyn crate::runtime::ModalKernels>> {
+        None
+    }
 }
 
 /// Built-in compiled kernels when they exist, else tapes of the body's

@@ -184,16 +184,20 @@ fn flexible(
         }
         Some((settings, modes_at)) => {
             let baked = provider.modal(f);
-            let when = if baked.is_some() {
-                "reduced when compiled"
-            } else {
-                "reduced at load"
+            let generated = baked.and_then(|_| provider.modal_kernels(f));
+            let when = match (&baked, &generated) {
+                (Some(_), Some(_)) => "reduced when compiled, generated inertia kernels",
+                (Some(_), None) => "reduced when compiled",
+                _ => "reduced at load",
             };
             let mb = match baked {
                 // Reduced when the scene was compiled.
                 Some(consts) => consts
                     .data()
-                    .and_then(|d| crate::runtime::ModalBody::new(Box::new(kb), d))
+                    .and_then(|d| match generated {
+                        Some(k) => crate::runtime::ModalBody::with_kernels(Box::new(kb), d, k),
+                        None => crate::runtime::ModalBody::new(Box::new(kb), d),
+                    })
                     .map(|mb| Box::new(mb) as Box<dyn Body>)
                     .map_err(crate::Error::from),
                 None => reduce(f, settings, kb),
