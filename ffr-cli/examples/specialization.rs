@@ -20,7 +20,8 @@ use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 use std::sync::{Arc, Mutex};
 
-const KERNELS: [&str; 8] = [
+/// The kernels called per element (`KernelKind::per_call`).
+const KERNELS: [&str; 12] = [
     "mass",
     "residual",
     "tangent",
@@ -29,12 +30,16 @@ const KERNELS: [&str; 8] = [
     "energy",
     "element_invariants",
     "point_shape",
+    "force_elastic",
+    "elastic_scalars",
+    "scalar_force",
+    "scalar_tangent",
 ];
 
 /// Kernels that count their calls (index into `KERNELS`).
 struct Counting {
     inner: Box<dyn ElementKernels>,
-    calls: Arc<[AtomicU64; 8]>,
+    calls: Arc<[AtomicU64; 12]>,
 }
 
 impl Counting {
@@ -100,18 +105,61 @@ impl ElementKernels for Counting {
         self.hit(7);
         self.inner.point_shape(c, xi, s, psi, scratch)
     }
+    fn section_moments(&self) -> &[(ffr::runtime::spec::SectionProp, u8)] {
+        self.inner.section_moments()
+    }
+    fn section_coefficients(&self, mu: &[f64], l: f64, c: &mut [f64]) {
+        self.inner.section_coefficients(mu, l, c)
+    }
+    fn force_elastic(&self, c: &[f64], q: &[f64], f_e: &mut [f64], scratch: &mut [f64]) -> bool {
+        self.hit(8);
+        self.inner.force_elastic(c, q, f_e, scratch)
+    }
+    fn elastic_scalars(&self, c: &[f64], q: &[f64], z: &mut [f64], scratch: &mut [f64]) -> usize {
+        self.hit(9);
+        self.inner.elastic_scalars(c, q, z, scratch)
+    }
+    fn scalar_force(&self, c: &[f64], z: &[f64], g: &mut [f64], scratch: &mut [f64]) -> bool {
+        self.hit(10);
+        self.inner.scalar_force(c, z, g, scratch)
+    }
+    /// Counted as one `scalar_force` per element (the same program).
+    fn scalar_force_batch(
+        &self,
+        c: &[f64],
+        c_stride: usize,
+        z_all: &[f64],
+        g_all: &mut [f64],
+        elements: usize,
+        scratch: &mut [f64],
+    ) -> bool {
+        self.calls[10].fetch_add(elements as u64, Relaxed);
+        self.inner
+            .scalar_force_batch(c, c_stride, z_all, g_all, elements, scratch)
+    }
+    fn scalar_tangent(
+        &self,
+        c: &[f64],
+        z: &[f64],
+        g: &mut [f64],
+        h: &mut [f64],
+        scratch: &mut [f64],
+    ) -> bool {
+        self.hit(11);
+        self.inner.scalar_tangent(c, z, g, h, scratch)
+    }
 }
 
 /// A provider whose kernels count their calls; remembers what it handed out.
 struct Counted<'a> {
     inner: &'a dyn KernelProvider,
-    handed: Mutex<Vec<(KernelInfo, Arc<[AtomicU64; 8]>)>>,
+    handed: Mutex<Vec<(KernelInfo, Arc<[AtomicU64; 12]>)>>,
 }
 
 impl KernelProvider for Counted<'_> {
     fn kernels(&self, spec: &FlexSpec) -> ffr::Result<(Box<dyn ElementKernels>, &'static str)> {
         let (inner, path) = self.inner.kernels(spec)?;
-        let calls: Arc<[AtomicU64; 8]> = Arc::new(Default::default());
+        let calls: Arc<[AtomicU64; 12]> = Arc::new(Default::default());
         self.handed
             .lock()
             .unwrap()
@@ -121,13 +169,13 @@ impl KernelProvider for Counted<'_> {
 }
 
 /// Operation count of every kernel of the set described by `info`.
-fn ops(info: &KernelInfo) -> [u64; 8] {
+fn ops(info: &KernelInfo) -> [u64; 12] {
     let model = KernelModel::new(
         Shape::resolve(&info.shape, None).expect("a built-in shape"),
         info.options,
     );
     let set = generate_kernels(&model).expect("the kernels generate");
-    let mut out = [0; 8];
+    let mut out = [0; 12];
     for (name, p) in set.programs() {
         let k = KERNELS.iter().position(|n| *n == name).unwrap();
         out[k] = p.ops() as u64;
@@ -164,7 +212,9 @@ fn measure(path: &Path, provider: &dyn KernelProvider, reps: usize) -> Measured 
             let mut total = 0u64;
             for (info, calls) in handed.iter() {
                 let o = ops(info);
-                total += (0..8).map(|k| calls[k].load(Relaxed) * o[k]).sum::<u64>();
+                total += (0..KERNELS.len())
+                    .map(|k| calls[k].load(Relaxed) * o[k])
+                    .sum::<u64>();
             }
             ops_per_step = total as f64 / r.steps as f64;
             kernels = s
