@@ -288,6 +288,34 @@ impl<'a> Views<'a> {
             writeln!(self.outputs, "let {name}: &mut [f64; {len}] = (&mut *{src}).try_into().expect(\"`{name}` has {len} entries\");").unwrap();
         }
     }
+    /// The outputs of `mass` (`n` coordinates).
+    fn mass_outputs(&mut self, n: usize) {
+        self.output(OutArr::St, "out.s_t", 3);
+        self.output(OutArr::Mee, "out.m_ee", n * n);
+        self.output(OutArr::MeFrame, "out.m_e_frame", n * 6);
+        self.output(OutArr::MrefE, "out.m_ref_e", 6 * n);
+        self.output(OutArr::MrefFrame, "out.m_ref_frame", 36);
+    }
+    /// The outputs of `residual`.
+    fn residual_outputs(&mut self, n: usize) {
+        self.output(OutArr::Fr, "out.f_r", 3);
+        self.output(OutArr::Fth, "out.f_th", 3);
+        self.output(OutArr::Fe, "out.f_e", n);
+    }
+    /// `bp`, `gp` and the outputs of `tangent`.
+    fn tangent_outputs(&mut self, n: usize) {
+        self.derivative_weights();
+        self.residual_outputs(n);
+        self.output(OutArr::Kee, "out.k_ee", n * n);
+        self.output(OutArr::DeFrame, "out.d_e_frame", n * 9);
+        self.output(OutArr::KrefE, "out.k_ref_e", 6 * n);
+        self.output(OutArr::DrefFrame, "out.d_ref_frame", 54);
+    }
+    /// `bp` and `gp`, the weights of `∂/∂q̈` and `∂/∂q̇` in a tangent.
+    fn derivative_weights(&mut self) {
+        self.scalar("bp", "bp", |s| s == Sym::Bp);
+        self.scalar("gp", "gp", |s| s == Sym::Gp);
+    }
     fn kernel_inputs(&mut self, via: &str) {
         self.scalar("x0", &format!("{via}x0"), |s| s == Sym::X0);
         self.input("q", &format!("{via}q"), |s| matches!(s, Sym::Q(_)));
@@ -573,33 +601,19 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str, layout: Layout) -> String {
                 v.coef();
                 v.scalar("x0", "x0", |s| s == Sym::X0);
                 v.input("q", "q", |s| matches!(s, Sym::Q(_)));
-                v.output(OutArr::St, "out.s_t", 3);
-                v.output(OutArr::Mee, "out.m_ee", n * n);
-                v.output(OutArr::MeFrame, "out.m_e_frame", n * 6);
-                v.output(OutArr::MrefE, "out.m_ref_e", 6 * n);
-                v.output(OutArr::MrefFrame, "out.m_ref_frame", 36);
+                v.mass_outputs(n);
                 (format!("fn mass(&self, c: &[f64], x0: f64, q: &[f64], out: &mut {rt}::MassOut, _scratch: &mut [f64])"), "")
             }
             KernelKind::Residual => {
                 v.coef();
                 v.kernel_inputs("x.");
-                v.output(OutArr::Fr, "out.f_r", 3);
-                v.output(OutArr::Fth, "out.f_th", 3);
-                v.output(OutArr::Fe, "out.f_e", n);
+                v.residual_outputs(n);
                 (format!("fn residual(&self, c: &[f64], x: &{rt}::KernelInput, out: &mut {rt}::ResidualOut, _scratch: &mut [f64])"), "")
             }
             KernelKind::Tangent => {
                 v.coef();
                 v.kernel_inputs("x.");
-                v.scalar("bp", "bp", |s| s == Sym::Bp);
-                v.scalar("gp", "gp", |s| s == Sym::Gp);
-                v.output(OutArr::Fr, "out.f_r", 3);
-                v.output(OutArr::Fth, "out.f_th", 3);
-                v.output(OutArr::Fe, "out.f_e", n);
-                v.output(OutArr::Kee, "out.k_ee", n * n);
-                v.output(OutArr::DeFrame, "out.d_e_frame", n * 9);
-                v.output(OutArr::KrefE, "out.k_ref_e", 6 * n);
-                v.output(OutArr::DrefFrame, "out.d_ref_frame", 54);
+                v.tangent_outputs(n);
                 (format!("fn tangent(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, out: &mut {rt}::TangentOut, _scratch: &mut [f64])"), "")
             }
             KernelKind::ResidualElastic => {
@@ -611,8 +625,7 @@ fn kernel_impl(set: &KernelSet, kt: &str, rt: &str, layout: Layout) -> String {
             KernelKind::TangentElastic => {
                 v.coef();
                 v.kernel_inputs("x.");
-                v.scalar("bp", "bp", |s| s == Sym::Bp);
-                v.scalar("gp", "gp", |s| s == Sym::Gp);
+                v.derivative_weights();
                 v.output(OutArr::Fe, "f_e", n);
                 v.output(OutArr::Kee, "k_ee", n * n);
                 (format!("fn tangent_elastic(&self, c: &[f64], x: &{rt}::KernelInput, bp: f64, gp: f64, f_e: &mut [f64], k_ee: &mut [f64], _scratch: &mut [f64])"), "")
@@ -1154,31 +1167,17 @@ fn modal_kernel_impl(
         let signature = match name {
             "mass" => {
                 v.input("q", "q", |s| matches!(s, Sym::Q(_)));
-                v.output(OutArr::St, "out.s_t", 3);
-                v.output(OutArr::Mee, "out.m_ee", k * k);
-                v.output(OutArr::MeFrame, "out.m_e_frame", k * 6);
-                v.output(OutArr::MrefE, "out.m_ref_e", 6 * k);
-                v.output(OutArr::MrefFrame, "out.m_ref_frame", 36);
+                v.mass_outputs(k);
                 format!("fn mass(&self, q: &[f64], out: &mut {rt}::MassOut, _scratch: &mut [f64])")
             }
             "residual" => {
                 v.kernel_inputs("x.");
-                v.output(OutArr::Fr, "out.f_r", 3);
-                v.output(OutArr::Fth, "out.f_th", 3);
-                v.output(OutArr::Fe, "out.f_e", k);
+                v.residual_outputs(k);
                 format!("fn residual(&self, x: &{rt}::KernelInput, out: &mut {rt}::ResidualOut, _scratch: &mut [f64])")
             }
             "tangent" => {
                 v.kernel_inputs("x.");
-                v.scalar("bp", "bp", |s| s == Sym::Bp);
-                v.scalar("gp", "gp", |s| s == Sym::Gp);
-                v.output(OutArr::Fr, "out.f_r", 3);
-                v.output(OutArr::Fth, "out.f_th", 3);
-                v.output(OutArr::Fe, "out.f_e", k);
-                v.output(OutArr::Kee, "out.k_ee", k * k);
-                v.output(OutArr::DeFrame, "out.d_e_frame", k * 9);
-                v.output(OutArr::KrefE, "out.k_ref_e", 6 * k);
-                v.output(OutArr::DrefFrame, "out.d_ref_frame", 54);
+                v.tangent_outputs(k);
                 format!("fn tangent(&self, x: &{rt}::KernelInput, bp: f64, gp: f64, out: &mut {rt}::TangentOut, _scratch: &mut [f64])")
             }
             "residual_elastic" => {
@@ -1188,8 +1187,7 @@ fn modal_kernel_impl(
             }
             _ => {
                 v.kernel_inputs("x.");
-                v.scalar("bp", "bp", |s| s == Sym::Bp);
-                v.scalar("gp", "gp", |s| s == Sym::Gp);
+                v.derivative_weights();
                 v.output(OutArr::Fe, "f_e", k);
                 v.output(OutArr::Kee, "k_ee", k * k);
                 format!("fn tangent_elastic(&self, x: &{rt}::KernelInput, bp: f64, gp: f64, f_e: &mut [f64], k_ee: &mut [f64], _scratch: &mut [f64])")
