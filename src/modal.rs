@@ -371,11 +371,9 @@ impl ReducibleBody {
         full: Box<dyn Body>,
     ) -> crate::Result<ModalBody> {
         let model = self.model(settings, stiffening, &*full)?;
-        let scene = if full.layout().scene_dim == 2 {
-            crate::runtime::spec::SceneDim::Planar
-        } else {
-            crate::runtime::spec::SceneDim::Spatial
-        };
+        let dim = full.layout().scene_dim;
+        let scene = crate::runtime::spec::SceneDim::from_dim(dim)
+            .ok_or_else(|| format!("the full body's scene dimension is {dim}, not 2 or 3"))?;
         let kernels = modal::generate_modal_kernels(&model, scene)?;
         let data = modal_data(&model, self.description());
         Ok(match kernels {
@@ -432,27 +430,24 @@ pub fn modal_data(model: &modal::ModalModel, body: String) -> ModalData {
 /// The modal body `settings` make of the beam `beam` describes (its full
 /// body, built as usual, places the markers).
 pub fn modal_body(beam: &BeamSpec, settings: &ModalSettings) -> crate::Result<ModalBody> {
-    let r = ReducibleBody::from_parts(
+    reducible(beam)?.runtime_body(settings, beam.options.stiffening, Box::new(beam.body()?))
+}
+
+/// The reduction of the beam `beam` describes.
+fn reducible(beam: &BeamSpec) -> crate::Result<ReducibleBody> {
+    ReducibleBody::from_parts(
         &beam.shape,
         beam.elements,
         beam.reference,
         beam.options.formalism,
         beam.params,
-    )?;
-    r.runtime_body(settings, beam.options.stiffening, Box::new(beam.body()?))
+    )
 }
 
 /// [`modal_body`] with the generated inertia kernels on tapes
 /// ([`ReducibleBody::tape_body`]).
 pub fn modal_body_tape(beam: &BeamSpec, settings: &ModalSettings) -> crate::Result<ModalBody> {
-    let r = ReducibleBody::from_parts(
-        &beam.shape,
-        beam.elements,
-        beam.reference,
-        beam.options.formalism,
-        beam.params,
-    )?;
-    r.tape_body(settings, beam.options.stiffening, Box::new(beam.body()?))
+    reducible(beam)?.tape_body(settings, beam.options.stiffening, Box::new(beam.body()?))
 }
 
 /// `quantity` is `v`: an error unless `v` is finite.

@@ -657,11 +657,8 @@ fn scene_modal_bodies(
     type_name: &str,
     runtime_path: &str,
 ) -> Result<(Vec<(String, String)>, Vec<(String, String)>), Error> {
-    let scene = if spec.dim == 2 {
-        ffr_spec::SceneDim::Planar
-    } else {
-        ffr_spec::SceneDim::Spatial
-    };
+    let scene = ffr_spec::SceneDim::from_dim(spec.dim)
+        .ok_or_else(|| Error::Body(format!("a scene of dimension {}, not 2 or 3", spec.dim)))?;
     let mut out = Vec::new();
     let mut kernels = Vec::new();
     for b in &spec.bodies {
