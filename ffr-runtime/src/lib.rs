@@ -37,6 +37,7 @@ pub mod monitor;
 pub mod nodal;
 pub mod rigid;
 pub mod rotation;
+pub mod section;
 pub mod system;
 #[cfg(feature = "tape")]
 pub mod tape;
