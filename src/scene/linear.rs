@@ -5,7 +5,12 @@
 //!   revolute joint whose angle is not prescribed): a torque about the
 //!   joint's axis on `b` (`−τ` on `a`), N m; `forceN` (the `N`-th
 //!   `[[forces]]` entry): a point force's magnitude along its direction
-//!   (global, or the body's for a follower force), N, or a torque's, N m;
+//!   (global, or the body's for a follower force), N, or a torque's, N m.
+//!   A point force with a `profile` `f(t)` is the same input, `u` along
+//!   `force/|force|` whatever `f`: the model is about the force's value at
+//!   the operating time, `f(T) force` (`f(0) force` for [`At::Static`]),
+//!   which sets the operating state and, for a follower force, its load
+//!   stiffness; the run's own force is `u(t) = f(t) |force|`;
 //!   `driveN`: the acceleration (rad/s², m/s²) of a perturbation of joint
 //!   `N`'s drive, whose angle (or slide) and rate become states.
 //!   By default every joint with a motor and every point force and torque.
@@ -117,10 +122,14 @@ pub fn inputs(
                 format!("input `{name}`: the scene has {} forces", spec.forces.len())
             })?;
             InputLoad::Force(Box::new(match &f.kind {
+                // A profiled force's input is the same: an added force
+                // along `force`; the profile's value at the operating time
+                // is part of the operating point (module documentation).
                 ForceKind::Point {
                     at,
                     force,
                     follower,
+                    ..
                 } => {
                     let dir = Vector3::from(*force);
                     let norm = dir.norm();
