@@ -580,3 +580,29 @@ component = "z"
     assert_eq!(bits(&plain), bits(&turned));
     assert!(peak(column(&plain, "tip_z")) > 0.05);
 }
+
+/// A Campbell diagram turns the rotor about global z: a driven joint whose
+/// ground marker's own axes tilt z away is refused (naming the tilted z),
+/// one turned about z only is not.
+#[test]
+fn a_campbell_diagram_refuses_a_rotor_axis_tilted_by_marker_axes() {
+    let campbell = |a: &str| {
+        let text = edited(
+            "precone.toml",
+            &[("a = \"ground@[0.0, 0.0, 0.0]\"", &format!("a = {a}"))],
+        );
+        let spec = ffr::codegen::scene::resolve_str(&text, "precone.toml", &scenes()).unwrap();
+        ffr::scene::linear::campbell(&spec, &DefaultKernels, &[0.0], None, 2)
+    };
+    let e = campbell("{ at = \"ground@[0.0, 0.0, 0.0]\", axes = { axis = [1.0, 0.0, 0.0], angle = 0.1 } }")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("a Campbell diagram turns the rotor about global z")
+            && e.contains("has axes whose z is [0.000e0, -9.983e-2, 9.950e-1]"),
+        "{e}"
+    );
+    let about_z =
+        campbell("{ at = \"ground@[0.0, 0.0, 0.0]\", axes = { axis = [0.0, 0.0, 2.0], angle = 0.1 } }");
+    assert!(about_z.is_ok(), "{:?}", about_z.err().map(|e| e.to_string()));
+}
