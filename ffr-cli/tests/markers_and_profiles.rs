@@ -594,15 +594,22 @@ fn a_campbell_diagram_refuses_a_rotor_axis_tilted_by_marker_axes() {
         let spec = ffr::codegen::scene::resolve_str(&text, "precone.toml", &scenes()).unwrap();
         ffr::scene::linear::campbell(&spec, &DefaultKernels, &[0.0], None, 2)
     };
-    let e = campbell("{ at = \"ground@[0.0, 0.0, 0.0]\", axes = { axis = [1.0, 0.0, 0.0], angle = 0.1 } }")
-        .unwrap_err()
-        .to_string();
+    let e = campbell(
+        "{ at = \"ground@[0.0, 0.0, 0.0]\", axes = { axis = [1.0, 0.0, 0.0], angle = 0.1 } }",
+    )
+    .unwrap_err()
+    .to_string();
     assert!(
         e.contains("a Campbell diagram turns the rotor about global z")
             && e.contains("has axes whose z is [0.000e0, -9.983e-2, 9.950e-1]"),
         "{e}"
     );
-    let about_z =
-        campbell("{ at = \"ground@[0.0, 0.0, 0.0]\", axes = { axis = [0.0, 0.0, 2.0], angle = 0.1 } }");
-    assert!(about_z.is_ok(), "{:?}", about_z.err().map(|e| e.to_string()));
+    let about_z = campbell(
+        "{ at = \"ground@[0.0, 0.0, 0.0]\", axes = { axis = [0.0, 0.0, 2.0], angle = 0.1 } }",
+    );
+    assert!(
+        about_z.is_ok(),
+        "{:?}",
+        about_z.err().map(|e| e.to_string())
+    );
 }

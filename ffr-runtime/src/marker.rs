@@ -223,11 +223,7 @@ impl MarkerKin {
         }
         for k in 0..3 {
             let c: Vector3<f64> = marker.axes.column(k).into();
-            let ct = if self.rotates {
-                self.section.r * c
-            } else {
-                c
-            };
+            let ct = if self.rotates { self.section.r * c } else { c };
             self.c_tilde[k] = ct;
             self.axes[k] = rot.a * ct;
             for i in 0..d {

@@ -176,9 +176,7 @@ impl SectionRotation {
         let col1: [Jet; 3] = std::array::from_fn(|i| cp.mul(m1[i]).add(sp.mul(m2[i])));
         let col2: [Jet; 3] = std::array::from_fn(|i| cp.mul(m2[i]).sub(sp.mul(m1[i])));
         let cols = [m0, col1, col2];
-        let entry = |f: &dyn Fn(&Jet) -> f64| {
-            Matrix3::from_fn(|row, col| f(&cols[col][row]))
-        };
+        let entry = |f: &dyn Fn(&Jet) -> f64| Matrix3::from_fn(|row, col| f(&cols[col][row]));
         Self {
             r: entry(&|j| j.v),
             dr: std::array::from_fn(|i| entry(&|j| j.g[i])),

@@ -388,7 +388,9 @@ impl<'s, B: Body> Assembly<'s, B> {
                 }
             };
             coord_slot.iter_mut().for_each(renum);
-            mult_slot.iter_mut().for_each(|g| *g = pos[*g as usize] as u32);
+            mult_slot
+                .iter_mut()
+                .for_each(|g| *g = pos[*g as usize] as u32);
             for border in &mut body_border {
                 border.iter_mut().for_each(|g| *g = pos[*g]);
                 border.sort_unstable();
@@ -472,7 +474,9 @@ fn border_order<B: Body>(
         }
     };
     for b in &sys.bodies {
-        let members: Vec<usize> = (b.offset..b.offset + b.n_coords()).filter_map(border).collect();
+        let members: Vec<usize> = (b.offset..b.offset + b.n_coords())
+            .filter_map(border)
+            .collect();
         clique(&members);
     }
     for &(i, row) in norm_rows {
@@ -482,7 +486,13 @@ fn border_order<B: Body>(
         clique(&members);
     }
     for (c, cw) in sys.constraints.iter().zip(cons) {
-        let mut members: Vec<usize> = cw.ka.idx.iter().chain(&cw.kb.idx).filter_map(|&g| border(g)).collect();
+        let mut members: Vec<usize> = cw
+            .ka
+            .idx
+            .iter()
+            .chain(&cw.kb.idx)
+            .filter_map(|&g| border(g))
+            .collect();
         members.extend((cw.first..cw.first + c.rows.len()).map(|k| mult_slot[k] as usize));
         clique(&members);
     }

@@ -27,7 +27,10 @@ pub fn reverse_cuthill_mckee(adj: &[Vec<usize>]) -> Vec<usize> {
     loop {
         // The unplaced node of least degree (lowest index on ties) starts a
         // component; move it to a pseudo-peripheral node of its component.
-        let Some(seed) = (0..n).filter(|&i| !placed[i]).min_by_key(|&i| (degree[i], i)) else {
+        let Some(seed) = (0..n)
+            .filter(|&i| !placed[i])
+            .min_by_key(|&i| (degree[i], i))
+        else {
             break;
         };
         let start = pseudo_peripheral(adj, &degree, seed, &mut level);
