@@ -154,6 +154,9 @@ pub struct Summary {
     /// Generalized-α steps that failed from both starts and were done in two
     /// halves (each half counts once; halves may split again).
     pub splits: usize,
+    /// The largest elastic section rotation of each flexible body over
+    /// the run ([`crate::monitor::ElasticRotation`]).
+    pub rotations: Vec<crate::monitor::ElasticRotation>,
 }
 
 /// Preallocated vectors of the linear solves.
@@ -284,6 +287,8 @@ impl<B: Body> System<B> {
         } else {
             None
         };
+        let mut rotations = crate::monitor::Rotations::new(asm.sys)?;
+        rotations.observe(state.t, &state.q);
         let mut summary = Summary {
             steps: 0,
             last: state.clone(),
@@ -292,6 +297,7 @@ impl<B: Body> System<B> {
             jacobians: 0,
             restarts: 0,
             splits: 0,
+            rotations: Vec::new(),
         };
         let mut view = StepView {
             step: 0,
@@ -301,6 +307,7 @@ impl<B: Body> System<B> {
         };
         if observer(&mut view).is_break() {
             summary.stopped = true;
+            summary.rotations = rotations.max;
             return Ok(summary);
         }
         for step in 0..n_steps {
@@ -318,6 +325,7 @@ impl<B: Body> System<B> {
             };
             summary.newton_iterations += iters;
             summary.steps = step + 1;
+            rotations.observe(state.t, &state.q);
             if let Some(w) = &mut watch {
                 w.after_step(&mut asm, &state, &summary)?;
             }
@@ -333,6 +341,7 @@ impl<B: Body> System<B> {
             }
         }
         summary.last = state;
+        summary.rotations = rotations.max;
         Ok(summary)
     }
 

@@ -82,6 +82,103 @@ struct Sampled {
     points: Vec<(f64, PointShape)>,
 }
 
+/// The largest elastic section rotation of a flexible body over a run
+/// (or at a static solution): the angle of the section rotation `R(ψ)`
+/// relative to the body's frame ([`crate::section::rotation_angle`]) at
+/// the 17 points the monitor samples, tracked whether or not the monitor
+/// is on. One floating frame is accurate while it stays small (the
+/// scene layer warns past a threshold).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ElasticRotation {
+    /// The body (index in the system).
+    pub body: usize,
+    /// The largest angle (rad).
+    pub angle: f64,
+    /// When (s).
+    pub t: f64,
+    /// Where, on the body's own axis (m).
+    pub x: f64,
+}
+
+/// The sampled points of the flexible bodies with a length, for
+/// [`ElasticRotation`] (no allocation after [`Rotations::new`]).
+pub(crate) struct Rotations {
+    sampled: Vec<Sampled>,
+    /// One per sampled body, in order.
+    pub(crate) max: Vec<ElasticRotation>,
+}
+
+impl Rotations {
+    /// The sample points of `sys`'s flexible bodies.
+    pub(crate) fn new<B: Body>(sys: &crate::System<B>) -> Result<Self> {
+        let mut sampled = Vec::new();
+        let mut max = Vec::new();
+        for (i, b) in sys.bodies.iter().enumerate() {
+            let lay = b.body.layout();
+            if b.nf == 0 {
+                continue;
+            }
+            let Some(l) = lay.length.filter(|l| *l > 0.0 && l.is_finite()) else {
+                continue;
+            };
+            let mut points = Vec::with_capacity(SAMPLES);
+            for k in 0..SAMPLES {
+                let x = l * k as f64 / (SAMPLES - 1) as f64;
+                points.push((x, b.body.point_shape(x)?));
+            }
+            sampled.push(Sampled {
+                body: i,
+                f0: b.f_offset(),
+                length: l,
+                points,
+            });
+            max.push(ElasticRotation {
+                body: i,
+                angle: 0.0,
+                t: 0.0,
+                x: 0.0,
+            });
+        }
+        Ok(Self { sampled, max })
+    }
+
+    /// Update the largest angles with the state `q` at time `t`.
+    pub(crate) fn observe(&mut self, t: f64, q: &[f64]) {
+        for (s, m) in self.sampled.iter().zip(self.max.iter_mut()) {
+            for (x, p) in &s.points {
+                let mut psi = nalgebra::Vector3::zeros();
+                for (j, _, rj) in &p.entries {
+                    let qj = q[s.f0 + j];
+                    for k in 0..3 {
+                        psi[k] += rj[k] * qj;
+                    }
+                }
+                let a = crate::section::rotation_angle(&psi);
+                if a > m.angle {
+                    *m = ElasticRotation {
+                        body: s.body,
+                        angle: a,
+                        t,
+                        x: *x,
+                    };
+                }
+            }
+        }
+    }
+}
+
+/// The elastic rotations of `sys`'s flexible bodies at the state `q`
+/// (time `t`): [`ElasticRotation`] of that state alone (a static solution).
+pub fn elastic_rotations<B: Body>(
+    sys: &crate::System<B>,
+    t: f64,
+    q: &[f64],
+) -> Result<Vec<ElasticRotation>> {
+    let mut r = Rotations::new(sys)?;
+    r.observe(t, q);
+    Ok(r.max)
+}
+
 /// The monitor's state during one run.
 pub(crate) struct Watch {
     settings: Monitor,

@@ -196,6 +196,18 @@ impl SectionRotation {
     }
 }
 
+/// The angle of the section rotation `R(ψ)` (`acos((tr R − 1)/2)`, in
+/// `[0, π]`) in closed form: `tr R = c + cos φ (1 + c)`, so
+/// `cos angle = (1 + c)(1 + cos φ)/2 − 1` (slopes beyond
+/// [`MAX_SLOPE_SQUARED`] scaled back to it, as [`SectionRotation::new`]
+/// does). Planar (`ψ = (0, 0, θ_z)`): `asin |θ_z|`.
+pub fn rotation_angle(psi: &Vector3<f64>) -> f64 {
+    let s2 = (psi.y * psi.y + psi.z * psi.z).min(MAX_SLOPE_SQUARED);
+    let c = (1.0 - s2).sqrt();
+    let cos = 0.5 * (1.0 + c) * (1.0 + psi.x.cos()) - 1.0;
+    cos.clamp(-1.0, 1.0).acos()
+}
+
 /// The section's slope `√(θ_y² + θ_z²)`: the sine of the angle between the
 /// body's x axis and the inextensible axis' tangent (1 at 90°, where
 /// [`SectionRotation`] is no longer defined).
@@ -287,5 +299,17 @@ mod tests {
         let s = SectionRotation::new(&Vector3::new(0.0, 0.9, 0.9));
         assert!(s.r.iter().all(|x| x.is_finite()));
         assert!((s.r.transpose() * s.r - Matrix3::identity()).amax() < 1e-12);
+    }
+
+    #[test]
+    fn the_closed_form_angle_is_the_rotation_s() {
+        for psi in psis() {
+            let r = SectionRotation::new(&psi);
+            let (a, b) = (rotation_angle(&psi), r.angle());
+            assert!((a - b).abs() < 1e-7, "{psi:?}: {a} against {b}");
+        }
+        let planar = Vector3::new(0.0, 0.0, 0.6);
+        assert!((rotation_angle(&planar) - 0.6f64.asin()).abs() < 1e-15);
+        assert_eq!(rotation_angle(&Vector3::zeros()), 0.0);
     }
 }

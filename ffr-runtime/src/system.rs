@@ -299,12 +299,18 @@ impl<B: Body> System<B> {
     /// rigidly: segment `k` at `v + ω × (R_k − R_root)`.
     pub fn set_velocity(&mut self, id: BodyId, v: Vector3<f64>, omega: Vector3<f64>) -> Result<()> {
         self.set_frame_velocity(id, v, omega)?;
-        if let Some(g) = self.segments.iter().find(|g| g.root() == id) {
+        let outboard: Vec<BodyId> = self
+            .segments
+            .iter()
+            .find(|g| g.root() == id)
+            .map(|g| g.bodies[1..].to_vec())
+            .unwrap_or_default();
+        if !outboard.is_empty() {
             let o = self.bodies[id.0].offset;
             let d = self.dim;
             let r0 =
                 Vector3::from_iterator((0..3).map(|k| if k < d { self.q0[o + k] } else { 0.0 }));
-            for b in g.bodies[1..].to_vec() {
+            for b in outboard {
                 let ob = self.bodies[b.0].offset;
                 let r =
                     Vector3::from_iterator(

@@ -51,7 +51,7 @@ pub fn check_segments(segments: i64, elements: usize) -> Result<usize, SegmentEr
             "`segments` = {n} is more than the body's {elements} elements: every segment needs at least one element"
         )));
     }
-    if elements % n != 0 {
+    if !elements.is_multiple_of(n) {
         return Err(SegmentError(format!(
             "`segments` = {n} does not divide the body's {elements} elements: the cuts fall on nodes, so each segment has elements / segments elements (try {})",
             divisors_near(elements, n)

@@ -24,15 +24,12 @@ pub fn reverse_cuthill_mckee(adj: &[Vec<usize>]) -> Vec<usize> {
     let mut placed = vec![false; n];
     let mut order = Vec::with_capacity(n);
     let mut level = vec![usize::MAX; n];
-    loop {
-        // The unplaced node of least degree (lowest index on ties) starts a
-        // component; move it to a pseudo-peripheral node of its component.
-        let Some(seed) = (0..n)
-            .filter(|&i| !placed[i])
-            .min_by_key(|&i| (degree[i], i))
-        else {
-            break;
-        };
+    // The unplaced node of least degree (lowest index on ties) starts a
+    // component; move it to a pseudo-peripheral node of its component.
+    while let Some(seed) = (0..n)
+        .filter(|&i| !placed[i])
+        .min_by_key(|&i| (degree[i], i))
+    {
         let start = pseudo_peripheral(adj, &degree, seed, &mut level);
         let first = order.len();
         order.push(start);
