@@ -424,6 +424,24 @@ impl BorderedSystem {
         }
     }
 
+    /// The sign of `det A` (`±1`) from the last successful
+    /// [`factor`](Self::factor): block elimination gives
+    /// `det A = Π_i det B_i · det S`, each sign from its LU
+    /// ([`BandMatrix::det_sign`], [`DenseLu::det_sign`]). Panics unless
+    /// factored. `O(Σ n_i + k)`, no allocation.
+    pub fn det_sign(&self) -> f64 {
+        assert_eq!(
+            self.state,
+            State::Factored,
+            "det_sign without a successful factor"
+        );
+        self.blocks
+            .iter()
+            .map(|b| b.band.det_sign())
+            .product::<f64>()
+            * self.schur.det_sign()
+    }
+
     /// Pivot statistics of the Schur complement factorization.
     pub fn schur_pivot_info(&self) -> PivotInfo {
         self.schur.pivot_info()

@@ -197,6 +197,13 @@ fn check_case(seed: u64, mut case: Case) -> f64 {
     }
 
     sys.factor().expect("nonsingular test matrix");
+    // The sign of the determinant from the factors (block elimination:
+    // Π det B_i · det S) is nalgebra's of the whole matrix.
+    if dim > 0 {
+        let det = case.a.clone().lu().determinant();
+        assert!(det.is_finite() && det != 0.0, "test determinant {det:e}");
+        assert_eq!(sys.det_sign(), det.signum(), "det = {det:e}");
+    }
     let mut x = b.clone();
     let (xb, xk) = x.split_at_mut(nb);
     sys.solve(xb, xk);
