@@ -1,7 +1,7 @@
 //! `ffr::scene::SceneText`: scene variants by dotted keys, checked against
 //! the scene the loader resolves and against the same file edited by hand.
 
-use ffr::scene::spec::{BodyKind, ProfileSpec};
+use ffr::scene::spec::{BodyKind, ForceKind, ForceProfile, Orientation, ProfileSpec};
 use ffr::scene::{SceneText, SceneValue};
 use std::path::Path;
 
@@ -153,4 +153,134 @@ fn syntax_errors_are_located() {
     let e = SceneText::parse("t_end = \n", "x.toml", Path::new(".")).unwrap_err();
     let at = e.location.expect("located");
     assert_eq!((at.file.as_str(), at.line), ("x.toml", 1));
+}
+
+fn l_frame() -> SceneText {
+    SceneText::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/l_frame.toml")).unwrap()
+}
+
+fn point_profile(spec: &ffr::scene::SceneSpec) -> Option<ForceProfile> {
+    match &spec.forces[0].kind {
+        ForceKind::Point { profile, .. } => profile.clone(),
+        other => panic!("not a point force: {other:?}"),
+    }
+}
+
+/// A point force's `profile` by dotted keys: its table (integers and
+/// floats alike), a whole profile table in its place, and a bad table
+/// refused by the loader at its row with the key set named.
+#[test]
+fn a_force_profile_is_set_by_its_keys() {
+    let mut s = l_frame();
+    let int = |i: i64| SceneValue::Int(i);
+    s.set(
+        "forces.0.profile.table",
+        SceneValue::Array(vec![
+            SceneValue::Array(vec![int(0), int(0)]),
+            SceneValue::Array(vec![int(1), int(1)]),
+        ]),
+    )
+    .unwrap();
+    assert_eq!(
+        point_profile(&s.spec().unwrap()),
+        Some(ForceProfile::Table(vec![[0.0, 0.0], [1.0, 1.0]]))
+    );
+    assert_eq!(
+        s.get("forces.0.profile.table.1"),
+        Some(SceneValue::Array(vec![int(1), int(1)]))
+    );
+    s.set(
+        "forces.0.profile",
+        SceneValue::Table(vec![
+            ("kind".into(), "harmonic".into()),
+            ("amplitude".into(), 2.0.into()),
+            ("frequency".into(), 0.5.into()),
+        ]),
+    )
+    .unwrap();
+    assert_eq!(
+        point_profile(&s.spec().unwrap()),
+        Some(ForceProfile::Drive(ProfileSpec::Harmonic {
+            start: 0.0,
+            amplitude: 2.0,
+            frequency: 0.5,
+            phase: 0.0
+        }))
+    );
+    s.set("forces.0.profile.frequency", 1.5.into()).unwrap();
+    assert!(matches!(
+        point_profile(&s.spec().unwrap()),
+        Some(ForceProfile::Drive(ProfileSpec::Harmonic { frequency, .. })) if frequency == 1.5
+    ));
+    // Times that do not increase: the loader's message, at the table's line.
+    let mut s = l_frame();
+    let row = |t: f64, f: f64| SceneValue::Array(vec![t.into(), f.into()]);
+    s.set(
+        "forces.0.profile.table",
+        SceneValue::Array(vec![row(0.0, 0.0), row(0.0, 1.0)]),
+    )
+    .unwrap();
+    let e = s.spec().unwrap_err();
+    let line =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/l_frame.toml"))
+            .unwrap()
+            .lines()
+            .position(|l| l.starts_with("profile = "))
+            .unwrap()
+            + 1;
+    assert_eq!(e.location.as_ref().map(|l| l.line), Some(line), "{e}");
+    assert!(
+        e.message
+            .contains("row 2 of the profile `table`: the time 0.0 is not after row 1's 0.0"),
+        "{e}"
+    );
+    assert!(
+        e.message
+            .contains("(with forces.0.profile.table = [[0.0, 0.0], [0.0, 1.0]])"),
+        "{e}"
+    );
+}
+
+/// A marker by dotted keys: a string replaced by a table with axes and
+/// back, and a table's angle on its own.
+#[test]
+fn a_marker_is_set_as_a_string_or_a_table() {
+    let mut s = l_frame();
+    let a = |spec: &ffr::scene::SceneSpec| spec.joints[1].a.clone().unwrap();
+    assert_eq!(
+        a(&s.spec().unwrap()).axes,
+        Some(Orientation::Planar(std::f64::consts::FRAC_PI_2))
+    );
+    s.set("joints.1.a", "leg1@x=0.5".into()).unwrap();
+    let m = a(&s.spec().unwrap());
+    assert_eq!((m.text.as_str(), m.axes), ("leg1@x=0.5", None));
+    assert_eq!(s.get("joints.1.a"), Some("leg1@x=0.5".into()));
+    s.set(
+        "joints.1.a",
+        SceneValue::Table(vec![
+            ("at".into(), "leg1@x=1.0".into()),
+            (
+                "axes".into(),
+                SceneValue::Table(vec![("angle".into(), 0.25.into())]),
+            ),
+        ]),
+    )
+    .unwrap();
+    let m = a(&s.spec().unwrap());
+    assert_eq!(
+        (m.text.as_str(), m.axes),
+        ("leg1@x=1.0", Some(Orientation::Planar(0.25)))
+    );
+    s.set("joints.1.a.axes.angle", 1.0.into()).unwrap();
+    assert_eq!(a(&s.spec().unwrap()).axes, Some(Orientation::Planar(1.0)));
+    s.set("joints.1.a.at", "leg1@x=0.9".into()).unwrap();
+    assert_eq!(a(&s.spec().unwrap()).text, "leg1@x=0.9");
+    // A key a marker table does not have: the loader's located error.
+    s.set("joints.1.a.axis", SceneValue::Array(vec![0.0.into(); 3]))
+        .unwrap();
+    let e = s.spec().unwrap_err().to_string();
+    assert!(
+        e.contains("unknown field `axis`, expected `at` or `axes`"),
+        "{e}"
+    );
 }

@@ -54,4 +54,6 @@ fn ffr_bodies() -> ffr_codegen::Builder {
         .scene_named("builtin_two_link_arm", "../../scenes/two_link_arm.toml")
         .scene_named("builtin_blade_5mw", "../../scenes/blade_5mw.toml")
         .scene_named("builtin_boom_payload", "../../scenes/boom_payload.toml")
+        // Markers with their own axes and a point force with a profile table.
+        .scene_named("builtin_l_frame", "../../scenes/l_frame.toml")
 }

@@ -115,3 +115,24 @@ fn blade_with_sections_steps_allocate_nothing() {
     let a = allocations(&scene.system, scene.dt, 200, scene.integrator);
     assert!(a.iter().all(|&n| n == 0), "{a:?}");
 }
+
+/// Point forces scaled by a profile (a table looked up by binary search, a
+/// harmonic drive profile, a follower force) and markers with their own
+/// axes (`scenes/l_frame.toml` and forces added to it) step without
+/// allocating, while the table's rows are passed.
+#[test]
+fn profiled_forces_and_turned_markers_step_allocate_nothing() {
+    let dir = ffr::scene::load::builtin_dir();
+    let rows: Vec<String> = (0..1000)
+        .map(|i| format!("[{:?}, {:?}]", i as f64 * 2e-4, (i as f64 * 0.1).sin()))
+        .collect();
+    let text = format!(
+        "{}\n[[forces]]\nkind = \"point\"\nat = {{ at = \"leg1@x=0.5\", axes = {{ angle = 0.4 }} }}\nforce = [0.0, 0.01]\naxes = \"body\"\nprofile = {{ table = [{}] }}\n\n[[forces]]\nkind = \"point\"\nat = \"leg2@x=0.3\"\nforce = [0.01, 0.0]\nprofile = {{ kind = \"harmonic\", amplitude = 1.0, frequency = 5.0 }}\n",
+        std::fs::read_to_string(dir.join("l_frame.toml")).unwrap(),
+        rows.join(", ")
+    );
+    let scene =
+        ffr::scene::from_str(&text, "l_frame.toml", &dir, &ffr::scene::DefaultKernels).unwrap();
+    let a = allocations(&scene.system, scene.dt, 300, scene.integrator);
+    assert!(a.iter().all(|&n| n == 0), "{a:?}");
+}

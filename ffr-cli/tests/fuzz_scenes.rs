@@ -6,7 +6,8 @@
 //! or to `nan`/`inf`; a string replaced (body names, markers with shifted
 //! `x = …` or points, profile and kind names, control characters); a line
 //! deleted, duplicated or moved; an unknown or misplaced key inserted
-//! (`rate`, `alpha`, `slide`, `at`, `component`, `rho_inf`, …); a body
+//! (`rate`, `alpha`, `slide`, `at`, `component`, `rho_inf`, a force
+//! `profile`, a marker table with `axes`, …); a body
 //! moved off its joint. `t_end` is then cut to at most 200 steps (and
 //! elements to at most 32) so that a case runs in well under a second.
 //!
@@ -67,7 +68,7 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static A: Counting = Counting;
 
-const SCENES: [&str; 8] = [
+const SCENES: [&str; 9] = [
     "spin_up.toml",
     "spin_up_modal.toml",
     "precone.toml",
@@ -76,6 +77,7 @@ const SCENES: [&str; 8] = [
     "free_floating.toml",
     "two_link_arm.toml",
     "boom_payload.toml",
+    "l_frame.toml",
 ];
 
 /// Byte ranges `(start, end)` of tokens in a text.
@@ -228,6 +230,9 @@ fn mutate(rng: &mut TestRng, text: &str) -> String {
                         "kind = \"spring-damper\"",
                         "stiffness = 1e12",
                         "torque = 1e9",
+                        "profile = { kind = \"harmonic\", amplitude = 1.0, frequency = 2.0 }",
+                        "profile = { table = [[0.0, 0.0], [0.05, 1.0]] }",
+                        "b = { at = \"leg1@x=1.0\", axes = { angle = 0.5 } }",
                     ],
                 );
                 let lines: Vec<&str> = t.lines().collect();

@@ -669,3 +669,359 @@ fn ffr_run_exits_non_zero_with_the_located_error() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `BASE`'s point force with `profile = P` (the time function of its
+/// vector).
+fn profiled(p: &str) -> String {
+    edit(
+        "force = [0.0, -1.0]\n",
+        &format!("force = [0.0, -1.0]\nprofile = {p}\n"),
+    )
+}
+
+/// A spatial scene: a beam3 on a spherical joint, a block on its tip.
+const SPATIAL: &str = r#"dimension = 3
+t_end = 0.01
+dt = 1e-3
+
+[bodies.rod]
+shape = "beam3"
+elements = 2
+params = { length = 1.0, rho = 2700.0, area = 1e-4, iy = 8.3e-10, iz = 8.3e-10, e = 7.0e10, g = 2.6e10, j = 1.4e-9 }
+
+[bodies.block]
+mass = 0.5
+inertia = [1e-3, 1e-3, 1e-3]
+position = [1.0, 0.0, 0.0]
+
+[[joints]]
+kind = "spherical"
+a = "ground@[0.0, 0.0, 0.0]"
+b = "rod"
+
+[[joints]]
+kind = "fixed"
+a = "rod@x=1.0"
+b = "block"
+"#;
+
+/// A point force's `profile` (a drive profile or a table) and markers with
+/// their own axes (`{ at = "…", axes = { … } }`): every hostile value is
+/// refused at its place, with what is allowed.
+#[test]
+fn force_profiles_and_marker_axes_give_located_errors() {
+    // Each profile that is fine loads.
+    for ok in [
+        "{ table = [[0.0, 1.0], [0.5, 2.0]] }",
+        "{ table = [[0, 1], [1, 0]] }",
+        "{ kind = \"harmonic\", amplitude = 1.0, frequency = 2.0 }",
+        "{ kind = \"constant\", value = 0.5 }",
+        "{ kind = \"spin-up\", omega = 1.0, ramp = 0.5 }",
+        "{ kind = \"constant-rate\", rate = 2.0, start = 1.0 }",
+    ] {
+        let text = profiled(ok);
+        if let Err(e) = scene::from_str(&text, "ok.toml", Path::new("."), &scene::DefaultKernels) {
+            panic!("{ok}: {e}");
+        }
+    }
+    let spring = format!(
+        "{BASE}\n[[forces]]\nkind = \"spring-damper\"\na = \"ground@[1.0, 0.0]\"\nb = \"rod@x=1.0\"\nstiffness = 3.0\nrest_length = 0.1\nprofile = {{ kind = \"constant\", value = 1.0 }}\n"
+    );
+    let elbow = |b: &str| edit("b = \"block\"", &format!("b = {b}"));
+    let spatial = |b: &str| {
+        assert_eq!(SPATIAL.matches("b = \"block\"").count(), 1);
+        SPATIAL.replace("b = \"block\"", &format!("b = {b}"))
+    };
+    let cases: Vec<(String, &str, Vec<&str>)> = vec![
+        // Tables: times that do not increase, or are not finite.
+        (
+            profiled("{ table = [[0.0, 1.0], [0.0, 2.0]] }"),
+            "[0.0, 2.0]",
+            vec!["row 2 of the profile `table`: the time 0.0 is not after row 1's 0.0", "increase strictly"],
+        ),
+        (
+            profiled("{ table = [[1.0, 0.0], [2.0, 1.0], [1.5, 1.0]] }"),
+            "[1.5, 1.0]",
+            vec!["row 3 of the profile `table`: the time 1.5 is not after row 2's 2.0"],
+        ),
+        (
+            profiled("{ table = [[0.0, 0.0], [inf, 1.0]] }"),
+            "[inf, 1.0]",
+            vec!["row 2 of the profile `table`: the time inf is not a finite number"],
+        ),
+        (
+            profiled("{ table = [[nan, 0.0]] }"),
+            "[nan, 0.0]",
+            vec!["row 1 of the profile `table`: the time NaN is not a finite number"],
+        ),
+        (
+            profiled("{ table = [[-1e308, 0.0], [1e308, 1.0]] }"),
+            "[[-1e308",
+            vec!["times span -1e308 to 1e308", "beyond the range of f64"],
+        ),
+        // Values that are not finite.
+        (
+            profiled("{ table = [[0.0, 1.0], [1.0, nan]] }"),
+            "[1.0, nan]",
+            vec!["row 2 of the profile `table`: the value NaN is not a finite number"],
+        ),
+        (
+            profiled("{ table = [[0.0, -inf]] }"),
+            "[0.0, -inf]",
+            vec!["the value -inf is not a finite number"],
+        ),
+        // An empty table, rows of the wrong length or type.
+        (
+            profiled("{ table = [] }"),
+            "[] }",
+            vec!["a profile `table` needs at least one row [time, value]"],
+        ),
+        (
+            profiled("{ table = [[0.0, 1.0], [1.0, 2.0, 3.0]] }"),
+            "[1.0, 2.0, 3.0]",
+            vec!["row 2 of the profile `table` has 3 values: each row is [time, value]"],
+        ),
+        (
+            profiled("{ table = [[0.5]] }"),
+            "[0.5]",
+            vec!["row 1 of the profile `table` has 1 value: each row is [time, value]"],
+        ),
+        (
+            profiled("{ table = [0.0, 1.0] }"),
+            "0.0, 1.0] }",
+            vec!["expected a row [time, value] of two numbers"],
+        ),
+        (
+            profiled("{ table = [[0.0, \"one\"]] }"),
+            "\"one\"",
+            vec!["invalid type: string"],
+        ),
+        // `kind` and `table` together; neither; keys that do not apply.
+        (
+            profiled("{ kind = \"constant\", value = 1.0, table = [[0.0, 1.0]] }"),
+            "table =",
+            vec!["`table` and `kind` both give the force's profile", "not both"],
+        ),
+        (
+            profiled("{ table = [[0.0, 1.0]], kind = \"constant\", value = 1.0 }"),
+            "kind = \"constant\", value",
+            vec!["`kind` and `table` both give the force's profile"],
+        ),
+        (
+            profiled("{ }"),
+            "{ }",
+            vec!["a force's `profile` needs `kind = \"PROFILE\"`", "or `table = [[t0, f0], [t1, f1], …]`"],
+        ),
+        (
+            profiled("{ table = [[0.0, 1.0]], amplitude = 2.0 }"),
+            "amplitude",
+            vec!["`amplitude` does not apply to a table profile (`table`): it takes `table`"],
+        ),
+        (
+            profiled("{ kind = \"constant\", value = 1.0, ramp = 1.0 }"),
+            "ramp",
+            vec!["`ramp` does not apply to profile `constant` (a point force's profile): it takes `kind`, `value`"],
+        ),
+        (
+            profiled("{ kind = \"harmonic\", amplitude = 1.0, frequency = 1.0, omega = 2.0 }"),
+            "omega",
+            vec!["`omega` does not apply to profile `harmonic`", "`kind`, `amplitude`, `frequency`, `start`, `phase`"],
+        ),
+        (
+            profiled("{ kind = \"constant\", value = 1.0, gain = 2.0 }"),
+            "gain",
+            vec!["unknown field `gain`"],
+        ),
+        (
+            profiled("{ kind = \"square\", value = 1.0 }"),
+            "\"square\"",
+            vec!["unknown profile `square`", "spin-up, constant-rate, constant or harmonic"],
+        ),
+        (
+            profiled("{ kind = \"harmonic\", amplitude = 1.0 }"),
+            "\"harmonic\"",
+            vec!["profile `harmonic` needs `frequency`"],
+        ),
+        (
+            profiled("{ kind = \"constant\", value = inf }"),
+            "inf }",
+            vec!["`value` must be a finite number, found inf"],
+        ),
+        // f(t) force beyond the range of f64; a drive profile that overflows.
+        (
+            edit("force = [0.0, -1.0]\n", "force = [0.0, -1e300]\nprofile = { table = [[0.0, 1e20]] }\n"),
+            "{ table",
+            vec!["force 1 (`point` at `rod@x=0.5`)", "the profile's value reaches 1e20", "1e300", "beyond the range of f64"],
+        ),
+        (
+            profiled("{ kind = \"harmonic\", amplitude = 1e290, frequency = 1e10 }"),
+            "{ kind",
+            vec!["force 1 (`point` at `rod@x=0.5`)", "reaches inf", "beyond the range of f64"],
+        ),
+        // `profile` is for point forces.
+        (
+            spring,
+            "profile = { kind = \"constant\", value = 1.0 }\n",
+            vec!["`profile` does not apply to a `spring-damper` force", "scales the vector of a `point` force"],
+        ),
+        // Marker tables: no `at`, unknown keys, a planar `axis`, values.
+        (
+            elbow("{ axes = { angle = 1.0 } }"),
+            "{ axes = { angle = 1.0 } }",
+            vec!["a marker table needs `at = \"MARKER\"`"],
+        ),
+        (
+            elbow("{ at = \"block\", angle = 1.0 }"),
+            "angle = 1.0 }",
+            vec!["unknown field `angle`, expected `at` or `axes`"],
+        ),
+        (
+            elbow("{ at = \"block\", axes = { angle = 1.0, spin = 2.0 } }"),
+            "spin",
+            vec!["unknown field `spin`, expected `axis` or `angle`"],
+        ),
+        (
+            elbow("{ at = \"block\", axes = { axis = [0.0, 0.0, 1.0], angle = 1.0 } }"),
+            "axis =",
+            vec!["`axis` does not apply to a marker's `axes` in a planar scene (a rotation about z): it takes `angle`"],
+        ),
+        (
+            elbow("{ at = \"block\", axes = { angle = nan } }"),
+            "nan",
+            vec!["`angle` must be a finite number, found NaN"],
+        ),
+        (
+            elbow("{ at = \"block\", axes = { } }"),
+            "{ } }",
+            vec!["a marker's `axes` needs `angle` (rad)"],
+        ),
+        (
+            elbow("3.0"),
+            "3.0\n",
+            vec!["expected a marker: a string such as \"NAME@x=0.3\", or a table"],
+        ),
+        // The point of a marker table is located at its `at`.
+        (
+            elbow("{ at = \"block@x=0.1\", axes = { angle = 1.0 } }"),
+            "\"block@x=0.1\"",
+            vec!["`block` is rigid and has no axis"],
+        ),
+        (
+            edit("at = \"rod@x=0.5\"", "at = { at = \"rod@x=1.5\", axes = { angle = 0.1 } }"),
+            "\"rod@x=1.5\"",
+            vec!["x = 1.5 is not on the body's axis"],
+        ),
+        // A ground joint fixes its body's frame: no axes.
+        (
+            edit(
+                "kind = \"revolute\"\na = \"ground@[0.0, 0.0]\"\nb = \"rod\"",
+                "kind = \"ground\"\nb = { at = \"rod\", axes = { angle = 0.5 } }",
+            ),
+            "{ at = \"rod\"",
+            vec!["a `ground` joint fixes body `b`'s frame where it starts: its marker takes no `axes`"],
+        ),
+        // Spatial: the axis must be a finite, non-zero direction.
+        (
+            spatial("{ at = \"block\", axes = { axis = [0.0, 0.0, 0.0], angle = 1.0 } }"),
+            "[0.0, 0.0, 0.0], angle",
+            vec!["`axis` = [0.0, 0.0, 0.0] is zero: the rotation needs a direction"],
+        ),
+        (
+            spatial("{ at = \"block\", axes = { axis = [1e-200, 0.0, 0.0], angle = 1.0 } }"),
+            "[1e-200",
+            vec!["is too short (its squared length underflows to 0)"],
+        ),
+        (
+            spatial("{ at = \"block\", axes = { axis = [1e200, 1e200, 0.0], angle = 1.0 } }"),
+            "[1e200",
+            vec!["is too long (its squared length overflows)"],
+        ),
+        (
+            spatial("{ at = \"block\", axes = { axis = [0.0, nan, 1.0], angle = 1.0 } }"),
+            "[0.0, nan, 1.0]",
+            vec!["`axis` must be finite, found NaN"],
+        ),
+        (
+            spatial("{ at = \"block\", axes = { axis = [0.0, 1.0], angle = 1.0 } }"),
+            "[0.0, 1.0]",
+            vec!["`axis` needs 3 components"],
+        ),
+        (
+            spatial("{ at = \"block\", axes = { angle = 1.0 } }"),
+            "{ angle = 1.0 }",
+            vec!["a spatial marker's `axes` need `axis = [x, y, z]`"],
+        ),
+        (
+            spatial("{ at = \"block\", axes = { axis = [0.0, 0.0, 1.0], angle = inf } }"),
+            "inf }",
+            vec!["`angle` must be a finite number, found inf"],
+        ),
+    ];
+    check_cases(&cases);
+    // Each is refused by `ffr run` with exit status 1 and the same place.
+    let dir = std::env::temp_dir().join(format!("ffr-scene-profiles-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for (k, (text, at, says)) in cases.iter().enumerate() {
+        let path = dir.join(format!("bad{k}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_ffr"))
+            .args(["run", &path.display().to_string()])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        let want = format!("{}:{}: ", path.display(), line_col(text, at));
+        assert!(stderr.contains(&want), "{stderr} should contain {want}");
+        assert!(stderr.contains(says[0]), "{stderr} should say {}", says[0]);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A profile table of more rows than `MAX_PROFILE_ROWS` is refused while it
+/// is read (before more rows are stored), at the table, by the library and
+/// by `ffr run` (exit 1); one of exactly that many rows loads.
+#[test]
+fn a_profile_table_longer_than_the_bound_is_refused() {
+    use ffr::scene::spec::MAX_PROFILE_ROWS;
+    let table = |n: usize| {
+        let rows: Vec<String> = (0..n).map(|i| format!("[{i},0]")).collect();
+        profiled(&format!("{{ table = [{}] }}", rows.join(",")))
+    };
+    let long = table(MAX_PROFILE_ROWS + 1);
+    // A scene file of this table is within the bound on scene files.
+    assert!(long.len() < (1 << 20), "{} bytes", long.len());
+    let e = error(&long);
+    let want = format!("bad.toml:{}: ", line_col(&long, "[[0,0]"));
+    assert!(e.starts_with(&want), "`{e}` should start with `{want}`");
+    assert!(
+        e.contains(&format!("has more than {MAX_PROFILE_ROWS} rows")),
+        "{e}"
+    );
+    let full = table(MAX_PROFILE_ROWS);
+    let spec = ffr_codegen::scene::resolve_str(&full, "ok.toml", Path::new(".")).unwrap();
+    match &spec.forces[0].kind {
+        ffr::scene::spec::ForceKind::Point {
+            profile: Some(ffr::scene::spec::ForceProfile::Table(rows)),
+            ..
+        } => assert_eq!(rows.len(), MAX_PROFILE_ROWS),
+        other => panic!("{other:?}"),
+    }
+    let dir = std::env::temp_dir().join(format!("ffr-scene-rows-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("long.toml");
+    std::fs::write(&path, &long).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ffr"))
+        .args(["run", &path.display().to_string()])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!("{}:{}", path.display(), line_col(&long, "[[0,0]"))),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

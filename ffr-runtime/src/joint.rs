@@ -286,6 +286,58 @@ impl RowEval {
     }
 }
 
+/// `H = Σ_r λ_r ∂²Φ_r/∂q_i∂q_j` over the constraint's local coordinates
+/// (those of `a`, then those of `b`; row-major `n × n`, overwritten), after
+/// [`RowEval::eval`] of every row: the same sum as [`RowEval::hess`] row by
+/// row, with the markers' second derivatives contracted once with the
+/// weights `Σ_r λ_r c_t V₂` (and `V₁`) of each quantity they enter.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn contracted_hessian(
+    rows: &[Row],
+    evals: &[RowEval],
+    ka: &MarkerKin,
+    kb: &MarkerKin,
+    t: f64,
+    lam: &[f64],
+    out: &mut [f64],
+) {
+    let na = ka.len();
+    let n = na + kb.len();
+    out[..n * n].iter_mut().for_each(|x| *x = 0.0);
+    let z = Vector3::zeros();
+    let mut w_pos = [z; 2];
+    let mut w_axes = [[z; 3]; 2];
+    for ((row, ev), &l) in rows.iter().zip(evals).zip(lam) {
+        if l == 0.0 {
+            continue;
+        }
+        for (terms, other) in [(&row.v1, &ev.v2.val), (&row.v2, &ev.v1.val)] {
+            for term in terms {
+                let c = term.coef.eval(t)[0] * l;
+                let side = usize::from(term.side == Side::B);
+                match term.what {
+                    What::Pos => w_pos[side] += other * c,
+                    What::Axis(k) => w_axes[side][k] += other * c,
+                    What::Const(_) => {}
+                }
+            }
+        }
+        // λ (∂V₁/∂q_i · ∂V₂/∂q_j + ∂V₁/∂q_j · ∂V₂/∂q_i).
+        for i in 0..n {
+            let (d1, d2) = (&ev.v1.d[i], &ev.v2.d[i]);
+            if *d1 == z && *d2 == z {
+                continue;
+            }
+            let (d1, d2) = (d1 * l, d2 * l);
+            for j in 0..n {
+                out[i * n + j] += d1.dot(&ev.v2.d[j]) + ev.v1.d[j].dot(&d2);
+            }
+        }
+    }
+    ka.add_contracted_hessian(&w_pos[0], &w_axes[0], out, n, 0);
+    kb.add_contracted_hessian(&w_pos[1], &w_axes[1], out, n, na);
+}
+
 /// Rows of coincident points: `(p_b − p_a) · e_k = 0`, `k < d`.
 pub fn coincident_rows(d: usize) -> Vec<Row> {
     (0..d)

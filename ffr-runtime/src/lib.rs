@@ -38,6 +38,7 @@ pub mod monitor;
 pub mod nodal;
 pub mod rigid;
 pub mod rotation;
+pub mod section;
 pub mod statics;
 pub mod system;
 #[cfg(feature = "tape")]

@@ -2,17 +2,24 @@
 //! their kinematics with first and second derivatives.
 //!
 //! A marker on body `b` sits at `ū = ū₀ + Σ_j s_j q_f[dof_j]` (body axes)
-//! with axes `c̃_k = c_k + ψ × c_k`, `ψ = Σ_j ψ_j q_f[dof_j]` (the small
-//! rotation of the attached section), so in global axes
+//! with axes `c̃_k = R(ψ) c_k`, where `ψ = Σ_j ψ_j q_f[dof_j]` is the
+//! attached section's rotation vector to first order and `R(ψ)` its exact
+//! rotation ([`crate::section`]: orthonormal, the rotation the beam's
+//! kinematics give the section), so in global axes
 //!
-//! `p = R + A(θ) ū`, `a_k = A(θ) c̃_k`.
+//! `p = R + A(θ) ū`, `a_k = A(θ) R(ψ) c_k`.
+//!
+//! A marker whose point shape carries no rotation (a frame point, an FE
+//! node) keeps `c̃_k = c_k`.
 //!
 //! Its *local coordinates* are the body's frame coordinates `R` (d), `θ`
 //! (n_θ) and the marker's elastic coordinates; the first and second
-//! derivatives with respect to them are exact (`∂A/∂θ`, `∂²A/∂θ²`).
+//! derivatives with respect to them are exact (`∂A/∂θ`, `∂²A/∂θ²`,
+//! `∂R/∂ψ`, `∂²R/∂ψ²`).
 
 use crate::body::PointShape;
 use crate::rotation::Rotation;
+use crate::section::SectionRotation;
 use nalgebra::{Matrix3, Vector3};
 
 /// A body index in a system.
@@ -103,6 +110,15 @@ pub struct MarkerKin {
     u: Vector3<f64>,
     c_tilde: [Vector3<f64>; 3],
     s: Vec<Vector3<f64>>,
+    /// `ψ_j` of each elastic coordinate.
+    p: Vec<Vector3<f64>>,
+    /// Whether the point shape turns the section (some `ψ_j ≠ 0`).
+    rotates: bool,
+    /// `R(ψ)` and its derivatives at the last evaluation.
+    section: SectionRotation,
+    /// `∂²(R c_k)/∂ψ_i∂ψ_m`, by axis `k` and `3 i + m`.
+    d2ct: [[Vector3<f64>; 9]; 3],
+    /// `∂c̃_k/∂q_j = Σ_i ∂(R c_k)/∂ψ_i ψ_j[i]` (body axes).
     psi_c: [Vec<Vector3<f64>>; 3],
 }
 
@@ -136,6 +152,19 @@ impl MarkerKin {
             u: z,
             c_tilde: [z; 3],
             s: vec![z; m],
+            p: marker
+                .shape
+                .entries
+                .iter()
+                .map(|(_, _, p)| Vector3::from(*p))
+                .collect(),
+            rotates: marker
+                .shape
+                .entries
+                .iter()
+                .any(|(_, _, p)| p.iter().any(|x| *x != 0.0)),
+            section: SectionRotation::identity(),
+            d2ct: [[z; 9]; 3],
             psi_c: [vec![z; m], vec![z; m], vec![z; m]],
         }
     }
@@ -189,9 +218,12 @@ impl MarkerKin {
         for (j, s) in self.s.iter().enumerate() {
             self.dpos[self.n_frame + j] = rot.a * s;
         }
+        if self.rotates {
+            self.section = SectionRotation::new(&psi);
+        }
         for k in 0..3 {
             let c: Vector3<f64> = marker.axes.column(k).into();
-            let ct = c + psi.cross(&c);
+            let ct = if self.rotates { self.section.r * c } else { c };
             self.c_tilde[k] = ct;
             self.axes[k] = rot.a * ct;
             for i in 0..d {
@@ -200,8 +232,21 @@ impl MarkerKin {
             for i in 0..nth {
                 self.daxes[k][d + i] = rot.da[i] * ct;
             }
-            for (j, (_, _, p)) in marker.shape.entries.iter().enumerate() {
-                let pc = Vector3::from(*p).cross(&c);
+            if !self.rotates {
+                for j in 0..self.p.len() {
+                    self.psi_c[k][j] = Vector3::zeros();
+                    self.daxes[k][self.n_frame + j] = Vector3::zeros();
+                }
+                continue;
+            }
+            let dct: [Vector3<f64>; 3] = std::array::from_fn(|i| self.section.dr[i] * c);
+            for i in 0..3 {
+                for m in 0..3 {
+                    self.d2ct[k][3 * i + m] = self.section.d2r(i, m) * c;
+                }
+            }
+            for (j, p) in self.p.iter().enumerate() {
+                let pc = dct[0] * p.x + dct[1] * p.y + dct[2] * p.z;
                 self.psi_c[k][j] = pc;
                 self.daxes[k][self.n_frame + j] = rot.a * pc;
             }
@@ -236,7 +281,173 @@ impl MarkerKin {
             (true, true) => rot.d2a(i - d, j - d) * self.c_tilde[k],
             (true, false) if j >= nf => rot.da[i - d] * self.psi_c[k][j - nf],
             (false, true) if i >= nf => rot.da[j - d] * self.psi_c[k][i - nf],
+            (false, false) if self.rotates && i >= nf && j >= nf => {
+                let (pi, pj) = (&self.p[i - nf], &self.p[j - nf]);
+                let mut v = Vector3::zeros();
+                for a in 0..3 {
+                    if pi[a] == 0.0 {
+                        continue;
+                    }
+                    for b in 0..3 {
+                        v += self.d2ct[k][3 * a + b] * (pi[a] * pj[b]);
+                    }
+                }
+                rot.a * v
+            }
             _ => Vector3::zeros(),
+        }
+    }
+
+    /// `H_ij += w_p · ∂²p/∂q_i∂q_j + Σ_k w_k · ∂²a_k/∂q_i∂q_j` for all
+    /// local `i, j`, into the row-major `n × n` matrix `out` at rows and
+    /// columns `shift + i`, `shift + j`: the second derivatives of the
+    /// marker contracted with weight vectors (global axes), as a joint's
+    /// multipliers weight them (`Σ_r λ_r ∂²Φ_r/∂q²`). The same values as
+    /// [`MarkerKin::d2pos`] and [`MarkerKin::d2axis`], without forming
+    /// them pair by pair.
+    pub fn add_contracted_hessian(
+        &self,
+        w_pos: &Vector3<f64>,
+        w_axes: &[Vector3<f64>; 3],
+        out: &mut [f64],
+        n: usize,
+        shift: usize,
+    ) {
+        let Some(rot) = &self.rot else {
+            return;
+        };
+        let (d, nf) = (self.d, self.n_frame);
+        let nth = nf - d;
+        let ne = self.s.len();
+        let at = |i: usize, j: usize| (shift + i) * n + shift + j;
+        // (θ, θ): Σ_ab (∂²A/∂θ_i∂θ_j)_ab M_ab, M = w_p uᵀ + Σ_k w_k c̃_kᵀ.
+        let mut mw = w_pos * self.u.transpose();
+        for k in 0..3 {
+            mw += w_axes[k] * self.c_tilde[k].transpose();
+        }
+        for i in 0..nth {
+            for j in i..nth {
+                let v = rot.d2a(i, j).component_mul(&mw).sum();
+                out[at(d + i, d + j)] += v;
+                if j != i {
+                    out[at(d + j, d + i)] += v;
+                }
+            }
+        }
+        // (θ, elastic): (∂A/∂θ_iᵀ w_p)·s_j + Σ_k (∂A/∂θ_iᵀ w_k)·∂c̃_k/∂q_j.
+        for i in 0..nth {
+            let dat = rot.da[i].transpose();
+            let wp = dat * w_pos;
+            let wk: [Vector3<f64>; 3] = std::array::from_fn(|k| dat * w_axes[k]);
+            for j in 0..ne {
+                let mut v = wp.dot(&self.s[j]);
+                if self.rotates {
+                    for k in 0..3 {
+                        v += wk[k].dot(&self.psi_c[k][j]);
+                    }
+                }
+                out[at(d + i, nf + j)] += v;
+                out[at(nf + j, d + i)] += v;
+            }
+        }
+        // (elastic, elastic): p_iᵀ G p_j, G_ab = Σ_k (Aᵀ w_k)·∂²(R c_k)/∂ψ_a∂ψ_b.
+        if self.rotates {
+            let at_w: [Vector3<f64>; 3] = std::array::from_fn(|k| rot.a.transpose() * w_axes[k]);
+            let g = Matrix3::from_fn(|a, b| {
+                (0..3)
+                    .map(|k| at_w[k].dot(&self.d2ct[k][3 * a + b]))
+                    .sum::<f64>()
+            });
+            for i in 0..ne {
+                let gp = g.transpose() * self.p[i];
+                for j in 0..ne {
+                    out[at(nf + i, nf + j)] += gp.dot(&self.p[j]);
+                }
+            }
+        }
+    }
+
+    /// The section rotation `R(ψ)` at the last evaluation (the identity for
+    /// a point without rotation).
+    pub fn section(&self) -> &SectionRotation {
+        &self.section
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::PointShape;
+
+    /// A marker on a spatial body (frame at offset 0: R, e; then 6 elastic
+    /// coordinates) whose point shape turns the section by all three
+    /// rotations, with turned axes.
+    fn marker() -> Marker {
+        let entries = (0..6)
+            .map(|j| {
+                let f = j as f64;
+                (
+                    j,
+                    [0.1 * f - 0.2, 0.3 - 0.05 * f, 0.07 * f],
+                    [0.4 - 0.1 * f, 0.05 * f - 0.15, 0.2 + 0.03 * f * f - 0.1 * f],
+                )
+            })
+            .collect();
+        let axes = nalgebra::Rotation3::from_euler_angles(0.3, -0.2, 0.9).into_inner();
+        Marker::point(
+            BodyId(0),
+            PointShape {
+                u0: [1.0, 0.2, -0.1],
+                entries,
+            },
+        )
+        .with_axes(axes)
+    }
+
+    fn q0() -> Vec<f64> {
+        let e = nalgebra::UnitQuaternion::from_euler_angles(0.5, -0.4, 1.2);
+        let mut q = vec![0.3, -0.2, 0.1, e.w, e.i, e.j, e.k];
+        q.extend([0.11, -0.23, 0.31, 0.17, -0.29, 0.13]);
+        q
+    }
+
+    /// Axes orthonormal; first and second derivatives of the position and
+    /// the axes against central differences.
+    #[test]
+    fn derivatives_against_differences() {
+        let m = marker();
+        let q = q0();
+        let mut k = MarkerKin::new(&m, 0, 3, 4);
+        k.eval(&m, &q);
+        let a = nalgebra::Matrix3::from_columns(&k.axes);
+        assert!((a.transpose() * a - Matrix3::identity()).amax() < 1e-14);
+        let n = k.len();
+        let h = 1e-6;
+        let mut kp = MarkerKin::new(&m, 0, 3, 4);
+        let mut km = MarkerKin::new(&m, 0, 3, 4);
+        for i in 0..n {
+            let (mut qp, mut qm) = (q.clone(), q.clone());
+            qp[k.idx[i]] += h;
+            qm[k.idx[i]] -= h;
+            kp.eval(&m, &qp);
+            km.eval(&m, &qm);
+            let fd = (kp.pos - km.pos) / (2.0 * h);
+            assert!((fd - k.dpos[i]).amax() < 1e-8, "dpos {i}");
+            for ax in 0..3 {
+                let fd = (kp.axes[ax] - km.axes[ax]) / (2.0 * h);
+                let e = (fd - k.daxes[ax][i]).amax();
+                assert!(e < 1e-8, "daxes {ax} {i}: {e:e}");
+            }
+            for j in 0..n {
+                let fd = (kp.dpos[j] - km.dpos[j]) / (2.0 * h);
+                let e = (fd - k.d2pos(i, j)).amax();
+                assert!(e < 1e-7, "d2pos {i} {j}: {e:e}");
+                for ax in 0..3 {
+                    let fd = (kp.daxes[ax][j] - km.daxes[ax][j]) / (2.0 * h);
+                    let e = (fd - k.d2axis(ax, i, j)).amax();
+                    assert!(e < 1e-7, "d2axis {ax} {i} {j}: {e:e}");
+                }
+            }
         }
     }
 }

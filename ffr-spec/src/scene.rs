@@ -300,10 +300,17 @@ pub struct ElasticSpec {
 pub struct MarkerSpec {
     /// What it names.
     pub point: MarkerPoint,
-    /// The text as written (`hub@[0.5, 0]`).
+    /// The text as written (`hub@[0.5, 0]`; of a table marker, its `at`).
     pub text: String,
     /// Where.
     pub at: Location,
+    /// The marker's own axes (`{ at = "…", axes = { … } }`): the rotation
+    /// `R` that turns the axes of its section, body or the ground (global
+    /// axes) into the marker's; the marker's x, y, z are the columns of `R`
+    /// in those axes. Planar: [`Orientation::Planar`] (a rotation about z);
+    /// spatial: [`Orientation::AxisAngle`] (axis not zero, finite).
+    /// `None`: the axes of the section, body or ground themselves.
+    pub axes: Option<Orientation>,
 }
 
 /// The point a marker names (bodies by index in [`SceneSpec::bodies`]).
@@ -434,6 +441,9 @@ pub enum ForceKind {
         force: [f64; 3],
         /// In the body's axes (a follower force).
         follower: bool,
+        /// A time function `f(t)` scaling the force, `F(t) = f(t) force`
+        /// (`profile = { … }`); `None`: `F = force` at all times.
+        profile: Option<ForceProfile>,
     },
     /// A linear spring-damper between two markers.
     SpringDamper {
@@ -470,6 +480,21 @@ pub enum ForceKind {
         /// N m.
         torque: f64,
     },
+}
+
+/// The most rows of a point force's `profile = { table = … }`, checked
+/// while the table is read (before more is stored).
+pub const MAX_PROFILE_ROWS: usize = 100_000;
+
+/// The time function `f(t)` of a point force's `profile`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ForceProfile {
+    /// The value `f(t)` of a drive profile (`kind = "harmonic"`, …).
+    Drive(ProfileSpec),
+    /// Piecewise linear through the rows `[t_i, f_i]` (times strictly
+    /// increasing, all finite, 1 to [`MAX_PROFILE_ROWS`] rows): `f_0` before
+    /// `t_0`, the last value after the last time, linear in between.
+    Table(Vec<[f64; 2]>),
 }
 
 /// A force, and where its table is.

@@ -181,3 +181,44 @@ def test_scene_file_errors_are_located(tmp_path):
         ffr.Scene.from_str("t_end = = 1", file="mine.toml")
     with pytest.raises(ffr.SceneError):
         ffr.Scene.load(tmp_path / "missing.toml")
+
+
+L_FRAME = SCENES / "l_frame.toml"
+
+
+def test_a_force_profile_is_set_by_its_keys():
+    # The L-frame's tip load ramps up by a table; a table that never
+    # rises above 0 leaves the frame where it is, and a constant profile of
+    # 1 loads it from the start.
+    s = ffr.Scene.load(L_FRAME)
+    s.set("t_end", 0.1)
+    s.set("forces.0.profile.table", [[0, 0], [1, 0]])
+    assert s.get("forces.0.profile.table") == [[0, 0], [1, 0]]
+    r = s.run()
+    assert np.all(r["tip_x"] == 1.0) and np.all(r["work"] == 0.0)
+    s.set("forces.0.profile", {"kind": "constant", "value": 1.0})
+    assert s.get("forces.0.profile") == {"kind": "constant", "value": 1.0}
+    ramped = ffr.Scene.load(L_FRAME)
+    ramped.set("t_end", 0.1)
+    full, part = s.run()["tip_x"], ramped.run()["tip_x"]
+    assert full[-1] - 1.0 > part[-1] - 1.0 > 0.0
+    # Times that do not increase: the loader's located message.
+    with pytest.raises(ffr.SceneError, match=r"l_frame\.toml:\d+:\d+: row 2 of the profile `table`: the time 0\.0 is not after"):
+        s.set("forces.0.profile.table", [[0.0, 0.0], [0.0, 1.0]])
+
+
+def test_a_marker_is_set_as_a_string_or_a_table():
+    s = ffr.Scene.load(L_FRAME)
+    s.set("t_end", 0.05)
+    assert s.get("joints.1.a") == {"at": "leg1@x=1.0", "axes": {"angle": 1.5707963267948966}}
+    base = s.run()
+    # The corner angle output at the plain section (a string): π/2 less
+    # than leg 2's frame; with a turn of 0.5 (a table): π/2 − 0.5 less.
+    for at, turn in (("leg1@x=1.0", 0.0), ({"at": "leg1@x=1.0", "axes": {"angle": 0.5}}, 0.5)):
+        s.set("outputs.2.at", at)
+        assert s.get("outputs.2.at") == at
+        r = s.run()
+        np.testing.assert_allclose(r["corner_angle"], base["leg2_angle"] - np.pi / 2 + turn, rtol=0, atol=1e-12)
+    s.set("joints.1.a.axes.angle", 1.5707963267948966)
+    with pytest.raises(ffr.SceneError, match="`axis` does not apply to a marker's `axes` in a planar scene"):
+        s.set("joints.1.a.axes.axis", [0.0, 0.0, 1.0])

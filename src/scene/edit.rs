@@ -7,7 +7,10 @@
 //! tables and arrays by a 0-based index, inline tables like tables
 //! (`bodies.beam.params.e`, `joints.0.drive.omega`, `t_end`). Every segment
 //! but the last must exist; the last may be new (a key the file leaves at
-//! its default). The edit keeps the file's layout and comments, and a
+//! its default). A value may change its kind: a marker string replaced by
+//! a marker table (`joints.0.a` = `{ at = "…", axes = { angle = … } }`)
+//! and back, a point force given a `profile` table whose keys are then set
+//! one by one (`forces.0.profile.table`). The edit keeps the file's layout and comments, and a
 //! replaced value keeps its place, so the loader's `file:line:col` still
 //! points into the file the user wrote.
 

@@ -5,7 +5,12 @@
 //!   revolute joint whose angle is not prescribed): a torque about the
 //!   joint's axis on `b` (`−τ` on `a`), N m; `forceN` (the `N`-th
 //!   `[[forces]]` entry): a point force's magnitude along its direction
-//!   (global, or the body's for a follower force), N, or a torque's, N m;
+//!   (global, or the body's for a follower force), N, or a torque's, N m.
+//!   A point force with a `profile` `f(t)` is the same input, `u` along
+//!   `force/|force|` whatever `f`: the model is about the force's value at
+//!   the operating time, `f(T) force` (`f(0) force` for [`At::Static`]),
+//!   which sets the operating state and, for a follower force, its load
+//!   stiffness; the run's own force is `u(t) = f(t) |force|`;
 //!   `driveN`: the acceleration (rad/s², m/s²) of a perturbation of joint
 //!   `N`'s drive, whose angle (or slide) and rate become states.
 //!   By default every joint with a motor and every point force and torque.
@@ -24,7 +29,7 @@ use crate::runtime::linear::{
 };
 use crate::runtime::nalgebra::{Complex, DMatrix, DVector, Vector3};
 use crate::runtime::spec::scene::{
-    BodyKind, ForceKind, JointKind, MarkerPoint, ProfileSpec, SceneSpec,
+    BodyKind, ForceKind, JointKind, MarkerPoint, Orientation, ProfileSpec, SceneSpec,
 };
 use crate::runtime::spec::FrameModel;
 use crate::runtime::{ForceAxes, ForceElement, State, TorqueLaw};
@@ -117,10 +122,14 @@ pub fn inputs(
                 format!("input `{name}`: the scene has {} forces", spec.forces.len())
             })?;
             InputLoad::Force(Box::new(match &f.kind {
+                // A profiled force's input is the same: an added force
+                // along `force`; the profile's value at the operating time
+                // is part of the operating point (module documentation).
                 ForceKind::Point {
                     at,
                     force,
                     follower,
+                    ..
                 } => {
                     let dir = Vector3::from(*force);
                     let norm = dir.norm();
@@ -588,6 +597,26 @@ pub fn campbell_with(
             .into())
         }
     };
+    // The rotor turns about `a`'s z axis: marker axes of its own must keep
+    // it on global z (the steady rotation is about global z).
+    if let Some(Orientation::AxisAngle { axis, angle }) = j.a.as_ref().and_then(|a| a.axes) {
+        let n = Vector3::from(axis).normalize();
+        let z = Vector3::z();
+        // Rodrigues: R e_z = cos φ e_z + sin φ (n × e_z) + (1 − cos φ) n_z n.
+        let rz = z * angle.cos() + n.cross(&z) * angle.sin() + n * (n.z * (1.0 - angle.cos()));
+        if (rz - z).norm() > 1e-12 {
+            return Err(format!(
+                "joint {} ({}): a Campbell diagram turns the rotor about global z, and marker `a` = `{}` has axes whose z is [{:.3e}, {:.3e}, {:.3e}]: turn them about z only",
+                ji + 1,
+                j.b.text,
+                crate::runtime::spec::text::quoted(j.a.as_ref().map_or("", |a| a.text.as_str())),
+                rz.x,
+                rz.y,
+                rz.z
+            )
+            .into());
+        }
+    }
     if let Some((g, gat)) = &spec.gravity {
         if g[0] != 0.0 || g[1] != 0.0 {
             return Err(crate::SceneError {

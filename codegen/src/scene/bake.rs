@@ -6,9 +6,9 @@
 //! unescaped.
 
 use ffr_spec::scene::{
-    BodyKind, BodySpec, ElasticSpec, ForceKind, ForceSpec, IntegratorSpec, JointSpec, MarkerPoint,
-    MarkerSpec, ModalSettings, MotorSpec, Orientation, OutputKind, OutputSpec, ProfileSpec,
-    SceneSpec,
+    BodyKind, BodySpec, ElasticSpec, ForceKind, ForceProfile, ForceSpec, IntegratorSpec, JointSpec,
+    MarkerPoint, MarkerSpec, ModalSettings, MotorSpec, Orientation, OutputKind, OutputSpec,
+    ProfileSpec, SceneSpec,
 };
 use ffr_spec::Location;
 
@@ -296,9 +296,10 @@ impl Bake for MarkerSpec {
             ),
         };
         format!(
-            "{s}::scene::MarkerSpec {{ point: {point}, text: {}, at: {} }}",
+            "{s}::scene::MarkerSpec {{ point: {point}, text: {}, at: {}, axes: {} }}",
             self.text.bake(s),
-            self.at.bake(s)
+            self.at.bake(s),
+            self.axes.bake(s)
         )
     }
 }
@@ -330,6 +331,17 @@ impl Bake for ProfileSpec {
                 frequency.bake(s),
                 phase.bake(s)
             ),
+        }
+    }
+}
+
+impl Bake for ForceProfile {
+    fn bake(&self, s: &Ctx) -> String {
+        match self {
+            ForceProfile::Drive(p) => format!("{s}::scene::ForceProfile::Drive({})", p.bake(s)),
+            ForceProfile::Table(rows) => {
+                format!("{s}::scene::ForceProfile::Table({})", rows.bake(s))
+            }
         }
     }
 }
@@ -371,11 +383,13 @@ impl Bake for ForceSpec {
                 at,
                 force,
                 follower,
+                profile,
             } => format!(
-                "{s}::scene::ForceKind::Point {{ at: {}, force: {}, follower: {} }}",
+                "{s}::scene::ForceKind::Point {{ at: {}, force: {}, follower: {}, profile: {} }}",
                 at.bake(s),
                 force.bake(s),
-                follower.bake(s)
+                follower.bake(s),
+                profile.bake(s)
             ),
             ForceKind::SpringDamper {
                 a,

@@ -2,7 +2,9 @@
 //! does not apply is a located error), drive profiles and motors checked
 //! before anything is built.
 
-use super::{body_type_name, scene_err, RawProfile, RawScene, RawTarget};
+use super::{
+    body_type_name, scene_err, RawForceProfile, RawMarker, RawProfile, RawScene, RawTarget,
+};
 use crate::error::Error;
 use std::collections::BTreeMap;
 use std::ops::Range;
@@ -91,6 +93,19 @@ fn check_profile(
     key: &str,
     owner: &str,
 ) -> Result<(), Error> {
+    check_profile_as(text, file, p, key, key, owner)
+}
+
+/// [`check_profile`], the key that names the profile shown as `label` in
+/// the list of keys that apply (a force's profile is named by `kind`).
+fn check_profile_as(
+    text: &str,
+    file: &str,
+    p: &RawProfile,
+    key: &str,
+    label: &str,
+    owner: &str,
+) -> Result<(), Error> {
     let all = keys([
         ("angle", sp(&p.angle)),
         ("slide", sp(&p.slide)),
@@ -140,7 +155,9 @@ fn check_profile(
         // Reported by the loader with the list of profiles.
         _ => return Ok(()),
     };
-    let takes: Vec<&str> = std::iter::once(key).chain(takes.iter().copied()).collect();
+    let takes: Vec<&str> = std::iter::once(label)
+        .chain(takes.iter().copied())
+        .collect();
     let present: Keys = all.into_iter().filter(|(k, _)| *k != key).collect();
     applies(
         text,
@@ -152,6 +169,87 @@ fn check_profile(
             ("start", "`value` is the value of a constant profile"),
             ("ramp", "`ramp` is the ramp time of profile `spin-up`"),
         ],
+    )
+}
+
+/// A point force's `profile`: `kind = "PROFILE"` with that drive
+/// profile's keys, or `table` alone.
+fn check_force_profile(text: &str, file: &str, p: &RawForceProfile) -> Result<(), Error> {
+    let all = keys([
+        ("kind", sp(&p.kind)),
+        ("table", sp(&p.table)),
+        ("omega", sp(&p.omega)),
+        ("ramp", sp(&p.ramp)),
+        ("value", sp(&p.value)),
+        ("start", sp(&p.start)),
+        ("rate", sp(&p.rate)),
+        ("amplitude", sp(&p.amplitude)),
+        ("frequency", sp(&p.frequency)),
+        ("phase", sp(&p.phase)),
+    ]);
+    if let (Some(_), Some(_)) = (&p.kind, &p.table) {
+        // At the second of the two keys.
+        let (k, span) = all
+            .iter()
+            .filter(|(k, _)| *k == "kind" || *k == "table")
+            .nth(1)
+            .expect("both present");
+        let other = if *k == "kind" { "table" } else { "kind" };
+        return Err(scene_err(
+            text,
+            file,
+            key_span(text, span.clone()),
+            format!(
+                "`{k}` and `{other}` both give the force's profile: give `kind = \"PROFILE\"` (a drive profile with its keys) or `table = [[t0, f0], …]`, not both"
+            ),
+        ));
+    }
+    if p.table.is_some() {
+        return applies(
+            text,
+            file,
+            &all,
+            &["table"],
+            "a table profile (`table`)",
+            &[],
+        );
+    }
+    check_profile_as(
+        text,
+        file,
+        &p.as_drive(),
+        "angle",
+        "kind",
+        "a point force's profile",
+    )
+}
+
+/// A marker table's `axes`: a planar scene's turn about z and take no
+/// `axis`.
+fn check_marker(
+    text: &str,
+    file: &str,
+    m: &Spanned<RawMarker>,
+    spatial: bool,
+) -> Result<(), Error> {
+    let RawMarker::Table(t) = m.get_ref() else {
+        return Ok(());
+    };
+    let Some(a) = &t.axes else { return Ok(()) };
+    let a = a.get_ref();
+    let present = keys([("axis", sp(&a.axis)), ("angle", sp(&a.angle))]);
+    let takes: &[&str] = if spatial {
+        &["axis", "angle"]
+    } else {
+        &["angle"]
+    };
+    applies(
+        text,
+        file,
+        &present,
+        takes,
+        "a marker's `axes` in a planar scene (a rotation about z)",
+        &[],
     )
 }
 
@@ -356,6 +454,24 @@ pub fn check(raw: &RawScene, text: &str, file: &str) -> Result<(), Error> {
             )?;
         }
     }
+    // Markers with their own axes.
+    let markers = raw
+        .joints
+        .iter()
+        .flat_map(|j| [j.a.as_ref(), Some(&j.b)])
+        .chain(
+            raw.forces
+                .iter()
+                .flat_map(|f| [f.at.as_ref(), f.a.as_ref(), f.b.as_ref()]),
+        )
+        .chain(
+            raw.outputs
+                .iter()
+                .flat_map(|o| [o.at.as_ref(), o.a.as_ref()]),
+        );
+    for m in markers.flatten() {
+        check_marker(text, file, m, spatial)?;
+    }
     // Joints, their drives and motors.
     for j in &raw.joints {
         let kind = j.kind.get_ref().as_str();
@@ -458,9 +574,10 @@ pub fn check(raw: &RawScene, text: &str, file: &str) -> Result<(), Error> {
             ("rest_length", sp(&f.rest_length)),
             ("rest_angle", sp(&f.rest_angle)),
             ("torque", sp(&f.torque)),
+            ("profile", sp(&f.profile)),
         ]);
         let takes: &[&str] = match kind {
-            "point" => &["kind", "at", "force", "axes"],
+            "point" => &["kind", "at", "force", "axes", "profile"],
             "spring-damper" => &["kind", "a", "b", "stiffness", "rest_length", "damping"],
             "rotational-spring-damper" => &["kind", "a", "b", "stiffness", "damping", "rest_angle"],
             "torque" => &["kind", "a", "b", "torque"],
@@ -478,8 +595,15 @@ pub fn check(raw: &RawScene, text: &str, file: &str) -> Result<(), Error> {
                     "`rest_angle` is for a `rotational-spring-damper`",
                 ),
                 ("rest_length", "`rest_length` is for a `spring-damper`"),
+                (
+                    "profile",
+                    "a time function `profile` scales the vector of a `point` force",
+                ),
             ],
         )?;
+        if let (Some(p), "point") = (&f.profile, kind) {
+            check_force_profile(text, file, p.get_ref())?;
+        }
     }
     // Outputs.
     for o in &raw.outputs {

@@ -153,8 +153,8 @@ pub struct RawDamping {
 #[serde(deny_unknown_fields)]
 pub struct RawJoint {
     pub kind: Spanned<String>,
-    pub a: Option<Spanned<String>>,
-    pub b: Spanned<String>,
+    pub a: Option<Spanned<RawMarker>>,
+    pub b: Spanned<RawMarker>,
     pub drive: Option<Spanned<RawProfile>>,
     pub motor: Option<Spanned<RawMotor>>,
 }
@@ -234,16 +234,213 @@ pub struct RawMotor {
 #[serde(deny_unknown_fields)]
 pub struct RawForce {
     pub kind: Spanned<String>,
-    pub at: Option<Spanned<String>>,
-    pub a: Option<Spanned<String>>,
-    pub b: Option<Spanned<String>>,
+    pub at: Option<Spanned<RawMarker>>,
+    pub a: Option<Spanned<RawMarker>>,
+    pub b: Option<Spanned<RawMarker>>,
     pub force: Option<Spanned<Vec<f64>>>,
     pub axes: Option<Spanned<String>>,
+    /// A point force's time function: `{ kind = "harmonic", … }` or
+    /// `{ table = [[t0, f0], …] }`.
+    pub profile: Option<Spanned<RawForceProfile>>,
     pub stiffness: Option<Spanned<f64>>,
     pub damping: Option<Spanned<f64>>,
     pub rest_length: Option<Spanned<f64>>,
     pub rest_angle: Option<Spanned<f64>>,
     pub torque: Option<Spanned<f64>>,
+}
+
+/// A marker: a string (`"NAME@x=0.3"`, `"ground@[0, 0]"`, …) or an inline
+/// table with its own axes, `{ at = "NAME@x=0.3", axes = { angle = 1.57 } }`
+/// (planar) or `axes = { axis = [0, 0, 1], angle = 1.57 }` (spatial).
+#[derive(Debug)]
+pub enum RawMarker {
+    /// The string form.
+    Text(String),
+    /// The table form.
+    Table(RawMarkerTable),
+}
+
+/// `{ at = "…", axes = { … } }`: a marker with its own axes (`axes` may be
+/// left out: then it is the marker `at`).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMarkerTable {
+    pub at: Option<Spanned<String>>,
+    pub axes: Option<Spanned<RawMarkerAxes>>,
+}
+
+/// A marker's axes: a rotation of the axes of its section, body or the
+/// ground; planar `{ angle = φ }` (about z), spatial `{ axis = [x, y, z],
+/// angle = φ }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawMarkerAxes {
+    pub axis: Option<Spanned<Vec<f64>>>,
+    pub angle: Option<Spanned<f64>>,
+}
+
+impl RawMarker {
+    /// The marker's point as written: the string, or a table's `at` (none
+    /// when the table has no `at`).
+    pub fn text(&self) -> Option<&str> {
+        match self {
+            RawMarker::Text(s) => Some(s),
+            RawMarker::Table(t) => t.at.as_ref().map(|a| a.get_ref().as_str()),
+        }
+    }
+
+    /// Whether the marker gives its own axes (an `angle` of 0 is the
+    /// marker without: the same axes).
+    pub fn has_axes(&self) -> bool {
+        match self {
+            RawMarker::Table(RawMarkerTable { axes: Some(a), .. }) => {
+                a.get_ref().angle.as_ref().map(|x| *x.get_ref()) != Some(0.0)
+            }
+            _ => false,
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for RawMarker {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = RawMarker;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a marker: a string such as \"NAME@x=0.3\", or a table such as { at = \"NAME@x=0.3\", axes = { angle = 1.5708 } }")
+            }
+            fn visit_str<E>(self, v: &str) -> Result<RawMarker, E> {
+                Ok(RawMarker::Text(v.to_string()))
+            }
+            fn visit_string<E>(self, v: String) -> Result<RawMarker, E> {
+                Ok(RawMarker::Text(v))
+            }
+            // The table's fields are read by the TOML deserializer itself,
+            // so they keep their spans (and an unknown key is located).
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<RawMarker, A::Error> {
+                RawMarkerTable::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(RawMarker::Table)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// A point force's time function `f(t)`: a drive profile named by `kind`
+/// with that profile's keys (`{ kind = "harmonic", amplitude = 1.0,
+/// frequency = 2.0 }`), or a piecewise-linear `table = [[t0, f0], …]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawForceProfile {
+    pub kind: Option<Spanned<String>>,
+    pub table: Option<Spanned<RawProfileTable>>,
+    pub omega: Option<Spanned<f64>>,
+    pub ramp: Option<Spanned<f64>>,
+    pub value: Option<Spanned<f64>>,
+    pub start: Option<Spanned<f64>>,
+    pub rate: Option<Spanned<f64>>,
+    pub amplitude: Option<Spanned<f64>>,
+    pub frequency: Option<Spanned<f64>>,
+    pub phase: Option<Spanned<f64>>,
+}
+
+impl RawForceProfile {
+    /// The drive-profile table of the same keys, the profile named by
+    /// `angle` (so that it is checked and resolved as drives are).
+    pub fn as_drive(&self) -> RawProfile {
+        RawProfile {
+            angle: self.kind.clone(),
+            slide: None,
+            omega: self.omega.clone(),
+            ramp: self.ramp.clone(),
+            value: self.value.clone(),
+            start: self.start.clone(),
+            rate: self.rate.clone(),
+            amplitude: self.amplitude.clone(),
+            frequency: self.frequency.clone(),
+            phase: self.phase.clone(),
+        }
+    }
+}
+
+/// The rows of a profile table, each with its span; at most
+/// [`ffr_spec::scene::MAX_PROFILE_ROWS`] rows are read (a longer table is
+/// refused while it is read, before more rows are stored).
+#[derive(Debug)]
+pub struct RawProfileTable(pub Vec<Spanned<RawRow>>);
+
+/// One row of a profile table: its first two numbers and how many values it
+/// has (a row of another length is refused by the loader, at the row).
+#[derive(Debug)]
+pub struct RawRow {
+    /// The first two values (0 where the row is shorter).
+    pub values: [f64; 2],
+    /// How many values the row has.
+    pub len: usize,
+}
+
+impl<'de> Deserialize<'de> for RawProfileTable {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = RawProfileTable;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an array of [time, value] rows")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<RawProfileTable, A::Error> {
+                use ffr_spec::scene::MAX_PROFILE_ROWS;
+                let mut rows = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1024));
+                while let Some(r) = seq.next_element::<Spanned<RawRow>>()? {
+                    if rows.len() == MAX_PROFILE_ROWS {
+                        return Err(serde::de::Error::custom(format!(
+                            "a profile `table` has more than {MAX_PROFILE_ROWS} rows (MAX_PROFILE_ROWS)"
+                        )));
+                    }
+                    rows.push(r);
+                }
+                Ok(RawProfileTable(rows))
+            }
+        }
+        d.deserialize_seq(V)
+    }
+}
+
+impl<'de> Deserialize<'de> for RawRow {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = RawRow;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a row [time, value] of two numbers")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<RawRow, A::Error> {
+                let mut values = [0.0; 2];
+                let mut len = 0;
+                // The first two values are kept, the others only counted.
+                while len < 2 {
+                    match seq.next_element::<f64>()? {
+                        Some(x) => values[len] = x,
+                        None => return Ok(RawRow { values, len }),
+                    }
+                    len += 1;
+                }
+                while seq.next_element::<serde::de::IgnoredAny>()?.is_some() {
+                    len += 1;
+                }
+                Ok(RawRow { values, len })
+            }
+        }
+        d.deserialize_seq(V)
+    }
 }
 
 /// An output column.
@@ -252,8 +449,8 @@ pub struct RawForce {
 pub struct RawOutput {
     pub name: Spanned<String>,
     pub kind: Spanned<String>,
-    pub at: Option<Spanned<String>>,
-    pub a: Option<Spanned<String>>,
+    pub at: Option<Spanned<RawMarker>>,
+    pub a: Option<Spanned<RawMarker>>,
     pub component: Option<Spanned<String>>,
 }
 
@@ -370,7 +567,9 @@ impl RawJoint {
     /// Whether this joint fixes its body's frame completely and can be
     /// folded into prescribed frame coordinates: a revolute joint between a
     /// ground point and a body's frame origin (`b = "NAME"`), with an angle
-    /// drive and no motor. Flexible and rigid bodies alike.
+    /// drive and no motor. Flexible and rigid bodies alike. Markers with
+    /// their own axes are not folded (the joint's angle is then measured
+    /// between those axes).
     pub fn folds(&self) -> bool {
         self.kind.get_ref() == "revolute"
             && self.motor.is_none()
@@ -378,11 +577,14 @@ impl RawJoint {
                 .drive
                 .as_ref()
                 .is_some_and(|d| d.get_ref().angle.is_some())
-            && self
-                .a
-                .as_ref()
-                .is_some_and(|a| a.get_ref().trim().starts_with("ground@"))
-            && !self.b.get_ref().contains('@')
+            && self.a.as_ref().is_some_and(|a| {
+                !a.get_ref().has_axes()
+                    && a.get_ref()
+                        .text()
+                        .is_some_and(|a| a.trim().starts_with("ground@"))
+            })
+            && !self.b.get_ref().has_axes()
+            && self.b.get_ref().text().is_some_and(|b| !b.contains('@'))
     }
 }
 
@@ -393,7 +595,7 @@ impl RawScene {
         let mut out = BTreeMap::new();
         for (i, j) in self.joints.iter().enumerate() {
             if j.folds() {
-                let b = j.b.get_ref().trim().to_string();
+                let b = j.b.get_ref().text().unwrap_or("").trim().to_string();
                 if self.bodies.contains_key(b.as_str()) {
                     out.entry(b).or_insert(i);
                 }

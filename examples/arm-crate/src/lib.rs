@@ -91,6 +91,7 @@ pub mod scenes {
     include!(concat!(env!("OUT_DIR"), "/builtin_two_link_arm.rs"));
     include!(concat!(env!("OUT_DIR"), "/builtin_blade_5mw.rs"));
     include!(concat!(env!("OUT_DIR"), "/builtin_boom_payload.rs"));
+    include!(concat!(env!("OUT_DIR"), "/builtin_l_frame.rs"));
 }
 
 /// Bodies from `build.rs` (see `ffr_bodies.rs`): each file defines a struct

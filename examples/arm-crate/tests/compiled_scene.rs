@@ -63,7 +63,7 @@ fn built_in_scenes_compile_to_their_files() {
         fn() -> ffr::runtime::spec::scene::SceneSpec,
         fn() -> Result<ffr::scene::Scene, ffr::SceneError>,
     );
-    let scenes: [Compiled; 9] = [
+    let scenes: [Compiled; 10] = [
         (
             BuiltinFreeFloatingScene::ORIGIN,
             BuiltinFreeFloatingScene::spec,
@@ -108,6 +108,11 @@ fn built_in_scenes_compile_to_their_files() {
             BuiltinBoomPayloadScene::ORIGIN,
             BuiltinBoomPayloadScene::spec,
             BuiltinBoomPayloadScene::load,
+        ),
+        (
+            BuiltinLFrameScene::ORIGIN,
+            BuiltinLFrameScene::spec,
+            BuiltinLFrameScene::load,
         ),
     ];
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));

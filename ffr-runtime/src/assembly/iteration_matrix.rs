@@ -36,7 +36,7 @@ impl<B: Body> Assembly<'_, B> {
                 solver.e_mut(b as usize).add(l, j as usize, v);
             }
             (Slot::Border(g), Slot::Border(h)) => {
-                solver.d_mut().add(g as usize, h as usize, v);
+                solver.d_add(g as usize, h as usize, v);
             }
         }
     }
@@ -263,32 +263,46 @@ impl<B: Body> Assembly<'_, B> {
                 Self::add(&mut self.solver, ms, cs, q[o + k]);
             }
         }
-        // Joints.
+        // Joints: Φ_q and Φ_qᵀ, and the Hessian contracted with λ̃.
         for (c, cw) in self.sys.constraints.iter().zip(self.cons.iter_mut()) {
-            let nl = cw.ka.len() + cw.kb.len();
-            for (k, (row, re)) in c.rows.iter().zip(cw.rows.iter()).enumerate() {
+            let (na, nl) = (cw.ka.len(), cw.ka.len() + cw.kb.len());
+            let global = |i: usize| {
+                if i < na {
+                    cw.ka.idx[i]
+                } else {
+                    cw.kb.idx[i - na]
+                }
+            };
+            for (k, re) in cw.rows.iter().enumerate() {
                 let ms = Slot::Border(self.mult_slot[cw.first + k]);
-                let l = lam_scaled[cw.first + k];
                 for i in 0..nl {
-                    let gi = if i < cw.ka.len() {
-                        cw.ka.idx[i]
-                    } else {
-                        cw.kb.idx[i - cw.ka.len()]
-                    };
-                    let si = self.coord_slot[gi];
+                    let si = self.coord_slot[global(i)];
                     Self::add(&mut self.solver, si, ms, re.grad[i]);
                     Self::add(&mut self.solver, ms, si, re.grad[i]);
-                    if l != 0.0 {
-                        for j in 0..nl {
-                            let gj = if j < cw.ka.len() {
-                                cw.ka.idx[j]
-                            } else {
-                                cw.kb.idx[j - cw.ka.len()]
-                            };
-                            let h = re.hess(row, &cw.ka, &cw.kb, t, i, j);
-                            Self::add(&mut self.solver, si, self.coord_slot[gj], l * h);
-                        }
-                    }
+                }
+            }
+            let lam = &lam_scaled[cw.first..cw.first + c.rows.len()];
+            if lam.iter().all(|l| *l == 0.0) {
+                continue;
+            }
+            crate::joint::contracted_hessian(
+                &c.rows,
+                &cw.rows,
+                &cw.ka,
+                &cw.kb,
+                t,
+                lam,
+                &mut cw.hess,
+            );
+            for i in 0..nl {
+                let si = self.coord_slot[global(i)];
+                for j in 0..nl {
+                    Self::add(
+                        &mut self.solver,
+                        si,
+                        self.coord_slot[global(j)],
+                        cw.hess[i * nl + j],
+                    );
                 }
             }
         }

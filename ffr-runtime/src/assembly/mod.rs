@@ -70,6 +70,8 @@ struct ConsWork {
     ka: MarkerKin,
     kb: MarkerKin,
     rows: Vec<RowEval>,
+    /// `Σ_r λ_r ∂²Φ_r/∂q²` over the local coordinates (`nl × nl`).
+    hess: Vec<f64>,
     /// First multiplier index of this constraint.
     first: usize,
     qd: Vec<f64>,
@@ -181,6 +183,7 @@ impl<'s, B: Body> Assembly<'s, B> {
             let nl = ka.len() + kb.len();
             cons.push(ConsWork {
                 rows: c.rows.iter().map(|_| RowEval::new(nl)).collect(),
+                hess: vec![0.0; nl * nl],
                 ka,
                 kb,
                 first,
@@ -386,6 +389,24 @@ impl<'s, B: Body> Assembly<'s, B> {
                 (nb as f64).powi(2) * 8.0 / (1u64 << 30) as f64
             )));
         }
+        // A long border whose couplings are banded in a reordering (a chain
+        // of bodies end to end) is renumbered and factored in band storage.
+        let band = border_order(sys, &cons, &forces, &norm_rows, &coord_slot, &mult_slot, nb);
+        if let Some((pos, _)) = &band {
+            let renum = |s: &mut Slot| {
+                if let Slot::Border(g) = s {
+                    *g = pos[*g as usize] as u32;
+                }
+            };
+            coord_slot.iter_mut().for_each(renum);
+            mult_slot
+                .iter_mut()
+                .for_each(|g| *g = pos[*g as usize] as u32);
+            for border in &mut body_border {
+                border.iter_mut().for_each(|g| *g = pos[*g]);
+                border.sort_unstable();
+            }
+        }
         let shapes: Vec<BlockShape> = blocks
             .iter()
             .zip(&body_border)
@@ -396,7 +417,10 @@ impl<'s, B: Body> Assembly<'s, B> {
                 border: border.clone(),
             })
             .collect();
-        let solver = BorderedSystem::new(&shapes, n_border as usize);
+        let solver = match band {
+            Some((_, b)) => BorderedSystem::with_banded_border(&shapes, nb, b, b),
+            None => BorderedSystem::new(&shapes, nb),
+        };
         let nb_total: usize = blocks.iter().map(|b| b.0).sum();
         Ok(Self {
             sys,
@@ -411,7 +435,7 @@ impl<'s, B: Body> Assembly<'s, B> {
             forces,
             solver,
             x_band: vec![0.0; nb_total],
-            x_border: vec![0.0; n_border as usize],
+            x_border: vec![0.0; nb],
             mult_class,
             coord_class,
             class_link,
@@ -419,4 +443,91 @@ impl<'s, B: Body> Assembly<'s, B> {
             load_scale: 1.0,
         })
     }
+}
+
+/// The smallest border that is worth ordering for band storage.
+const MIN_BANDED_BORDER: usize = 48;
+
+/// A reordering of the border (`pos[g]`: the new index of border unknown
+/// `g`) that makes its couplings banded with half-bandwidth `b`, if the
+/// border has at least [`MIN_BANDED_BORDER`] unknowns and band storage then
+/// costs less to factor than the dense Schur complement (`12 b² < k²`);
+/// otherwise `None` (the order and the dense factorization of before).
+///
+/// The couplings: a body's border unknowns with each other (its frame
+/// rows and the Schur complement of its band block), a joint's multipliers
+/// with its markers' coordinates and those with each other (its Hessian),
+/// a force element's coordinates with each other, a normalization with
+/// its Euler parameters. Reverse Cuthill–McKee orders them.
+fn border_order<B: Body>(
+    sys: &System<B>,
+    cons: &[ConsWork],
+    forces: &[ForceWork],
+    norm_rows: &[(usize, usize)],
+    coord_slot: &[Slot],
+    mult_slot: &[u32],
+    nb: usize,
+) -> Option<(Vec<usize>, usize)> {
+    if nb < MIN_BANDED_BORDER {
+        return None;
+    }
+    let mut adj: Vec<Vec<usize>> = vec![Vec::new(); nb];
+    let border = |c: usize| match coord_slot[c] {
+        Slot::Border(g) => Some(g as usize),
+        _ => None,
+    };
+    let mut clique = |members: &[usize]| {
+        for (i, &a) in members.iter().enumerate() {
+            for &b in &members[i + 1..] {
+                if a != b {
+                    adj[a].push(b);
+                    adj[b].push(a);
+                }
+            }
+        }
+    };
+    for b in &sys.bodies {
+        let members: Vec<usize> = (b.offset..b.offset + b.n_coords())
+            .filter_map(border)
+            .collect();
+        clique(&members);
+    }
+    for &(i, row) in norm_rows {
+        let o = sys.bodies[i].offset + 3;
+        let mut members: Vec<usize> = (o..o + 4).filter_map(border).collect();
+        members.push(mult_slot[row] as usize);
+        clique(&members);
+    }
+    for (c, cw) in sys.constraints.iter().zip(cons) {
+        let mut members: Vec<usize> = cw
+            .ka
+            .idx
+            .iter()
+            .chain(&cw.kb.idx)
+            .filter_map(|&g| border(g))
+            .collect();
+        members.extend((cw.first..cw.first + c.rows.len()).map(|k| mult_slot[k] as usize));
+        clique(&members);
+    }
+    for fw in forces {
+        let members: Vec<usize> = fw
+            .ka
+            .idx
+            .iter()
+            .chain(fw.kb.iter().flat_map(|k| k.idx.iter()))
+            .filter_map(|&g| border(g))
+            .collect();
+        clique(&members);
+    }
+    for a in &mut adj {
+        a.sort_unstable();
+        a.dedup();
+    }
+    let order = crate::linalg::reverse_cuthill_mckee(&adj);
+    let mut pos = vec![0; nb];
+    for (p, &g) in order.iter().enumerate() {
+        pos[g] = p;
+    }
+    let b = crate::linalg::bandwidth(&adj, &pos);
+    (12 * b * b < nb * nb).then_some((pos, b))
 }

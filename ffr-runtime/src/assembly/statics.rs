@@ -113,10 +113,14 @@ impl<B: Body> Assembly<'_, B> {
             }
         }
         let k = self.solver.k();
-        let d = self.solver.d_mut();
+        // Dense or banded border: `d_get` is 0 outside a band.
         for h in 0..k {
             for g in 0..k {
-                f(border_unknown[g], border_unknown[h], d.get(g, h));
+                f(
+                    border_unknown[g],
+                    border_unknown[h],
+                    self.solver.d_get(g, h),
+                );
             }
         }
     }

@@ -5,6 +5,66 @@ use std::ops::Range;
 
 use super::{BandMatrix, DenseLu, Part, PivotInfo, Singular};
 
+/// The border matrix `D` and then its Schur complement `S`: dense, or
+/// banded when the border's order makes it so ([`BorderedSystem::with_banded_border`]).
+#[derive(Debug, Clone)]
+enum Schur {
+    Dense(DenseLu),
+    Band(BandMatrix),
+}
+
+impl Schur {
+    fn clear(&mut self) {
+        match self {
+            Schur::Dense(d) => d.clear(),
+            Schur::Band(b) => b.clear(),
+        }
+    }
+    #[inline]
+    fn add(&mut self, i: usize, j: usize, v: f64) {
+        match self {
+            Schur::Dense(d) => d.add(i, j, v),
+            Schur::Band(b) => b.add(i, j, v),
+        }
+    }
+    fn factor(&mut self) -> Result<(), Singular> {
+        match self {
+            Schur::Dense(d) => d.factor(),
+            Schur::Band(b) => b.factor(),
+        }
+    }
+    fn solve(&self, x: &mut [f64]) {
+        match self {
+            Schur::Dense(d) => d.solve(x),
+            Schur::Band(b) => b.solve(x),
+        }
+    }
+    fn mul_vec_add(&self, x: &[f64], y: &mut [f64]) {
+        match self {
+            Schur::Dense(d) => d.mul_vec_add(x, y),
+            Schur::Band(b) => b.mul_vec_add(x, y),
+        }
+    }
+    fn pivot_info(&self) -> PivotInfo {
+        match self {
+            Schur::Dense(d) => d.pivot_info(),
+            Schur::Band(b) => b.pivot_info(),
+        }
+    }
+    fn det_sign(&self) -> f64 {
+        match self {
+            Schur::Dense(d) => d.det_sign(),
+            Schur::Band(b) => b.det_sign(),
+        }
+    }
+    fn get(&self, i: usize, j: usize) -> f64 {
+        match self {
+            Schur::Dense(d) => d.get(i, j),
+            Schur::Band(b) => b.get(i, j),
+        }
+    }
+}
+
 /// Shape of one band block `B_i` and its coupling to the border.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct BlockShape {
@@ -168,7 +228,7 @@ pub struct BorderedSystem {
     k: usize,
     n_band: usize,
     /// `D` before factoring, then `S` and its factors.
-    schur: DenseLu,
+    schur: Schur,
     state: State,
 }
 
@@ -179,6 +239,32 @@ impl BorderedSystem {
     /// Panics if a border list is not strictly increasing or has an index
     /// `≥ k`.
     pub fn new(blocks: &[BlockShape], k: usize) -> Self {
+        Self::build(blocks, k, Schur::Dense(DenseLu::new(k)))
+    }
+
+    /// [`new`](Self::new) with the border matrix `D` and its Schur
+    /// complement `S` in band storage (`kl` sub-, `ku` superdiagonals):
+    /// for borders whose coupling is banded in their order (a chain of
+    /// bodies), so that factoring `S` costs `O(k kl (kl + ku))` instead of
+    /// `O(k³)`. Every entry of `D` and every coupling of a block's border
+    /// unknowns (`border_i[a]`, `border_i[b]`) must lie in the band.
+    ///
+    /// Panics like [`new`](Self::new), and if a block's border spans more
+    /// than the band.
+    pub fn with_banded_border(blocks: &[BlockShape], k: usize, kl: usize, ku: usize) -> Self {
+        for (i, s) in blocks.iter().enumerate() {
+            if let (Some(&lo), Some(&hi)) = (s.border.first(), s.border.last()) {
+                assert!(
+                    hi - lo <= kl.min(ku),
+                    "border of block {i} spans {} unknowns, more than the band ({kl}, {ku})",
+                    hi - lo
+                );
+            }
+        }
+        Self::build(blocks, k, Schur::Band(BandMatrix::new(k, kl, ku)))
+    }
+
+    fn build(blocks: &[BlockShape], k: usize, schur: Schur) -> Self {
         let mut offset = 0;
         let blocks = blocks
             .iter()
@@ -208,7 +294,7 @@ impl BorderedSystem {
             blocks,
             k,
             n_band: offset,
-            schur: DenseLu::new(k),
+            schur,
             state: State::Assembling,
         }
     }
@@ -310,10 +396,36 @@ impl BorderedSystem {
     }
 
     /// `D` (`k × k`), column-major (`row_stride 1`, `col_stride k`).
+    /// Panics for a banded border ([`with_banded_border`](Self::with_banded_border));
+    /// [`d_add`](Self::d_add) works for both.
     pub fn d_mut(&mut self) -> MatMut<'_> {
         debug_assert_eq!(self.state, State::Assembling, "d_mut after factor");
         let k = self.k;
-        MatMut::new(self.schur.as_mut_slice(), k, k, 1, k)
+        match &mut self.schur {
+            Schur::Dense(d) => MatMut::new(d.as_mut_slice(), k, k, 1, k),
+            Schur::Band(_) => panic!("d_mut on a banded border: use d_add"),
+        }
+    }
+
+    /// `D[i, j] += v` (inside the band for a banded border).
+    #[inline]
+    pub fn d_add(&mut self, i: usize, j: usize, v: f64) {
+        debug_assert_eq!(self.state, State::Assembling, "d_add after factor");
+        self.schur.add(i, j, v);
+    }
+
+    /// `D[i, j]` before [`factor`](Self::factor) (0 outside the band of
+    /// a banded border); after it, the factors' storage.
+    pub fn d_get(&self, i: usize, j: usize) -> f64 {
+        self.schur.get(i, j)
+    }
+
+    /// Whether the border is in band storage.
+    pub fn banded_border(&self) -> Option<(usize, usize)> {
+        match &self.schur {
+            Schur::Dense(_) => None,
+            Schur::Band(b) => Some((b.kl(), b.ku())),
+        }
     }
 
     /// `y = A x` with the unfactored matrix:

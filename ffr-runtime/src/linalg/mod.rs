@@ -73,10 +73,12 @@
 mod band;
 mod bordered;
 mod dense;
+mod ordering;
 
 pub use band::BandMatrix;
 pub use bordered::{BlockShape, BorderedSystem, MatMut, PivotReport};
 pub use dense::DenseLu;
+pub use ordering::{bandwidth, reverse_cuthill_mckee};
 
 /// Which factor of a [`BorderedSystem`] (or which stand-alone matrix) failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -5,9 +5,9 @@
 //! file that the spec carries. A scene file gets here through
 //! `scene::load` (feature `scene-files`); a compiled scene with its spec as generated data.
 
-use crate::runtime::nalgebra::Vector3;
+use crate::runtime::nalgebra::{Matrix3, Unit, UnitQuaternion, Vector3};
 use crate::runtime::spec::scene::{
-    IntegratorSpec, MarkerPoint, MarkerSpec, MotorSpec, ProfileSpec, SceneSpec,
+    IntegratorSpec, MarkerPoint, MarkerSpec, MotorSpec, Orientation, ProfileSpec, SceneSpec,
 };
 use crate::runtime::spec::text::quoted as q;
 use crate::runtime::spec::Location;
@@ -37,8 +37,39 @@ fn v3(x: [f64; 3]) -> Vector3<f64> {
 }
 
 /// The runtime marker of `m` (a point on a beam's axis is looked up in the
-/// body's mesh).
+/// body's mesh), with its own axes if it gives them: the axes of its
+/// section, body or the ground turned by the rotation `R` of
+/// [`MarkerSpec::axes`] (`Marker::axes` = those axes times `R`; a section's
+/// deformation turns them further at run time).
 pub(crate) fn marker(sys: &System<Box<dyn Body>>, m: &MarkerSpec) -> Result<Marker, SceneError> {
+    let mk = point_marker(sys, m)?;
+    Ok(match &m.axes {
+        None => mk,
+        Some(o) => {
+            let r = rotation(o);
+            let axes = mk.axes * r;
+            mk.with_axes(axes)
+        }
+    })
+}
+
+/// The rotation matrix of an orientation (columns: the turned x, y, z).
+fn rotation(o: &Orientation) -> Matrix3<f64> {
+    match *o {
+        Orientation::Planar(a) => {
+            let (s, c) = a.sin_cos();
+            Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
+        }
+        Orientation::Identity => Matrix3::identity(),
+        Orientation::AxisAngle { axis, angle } => {
+            UnitQuaternion::from_axis_angle(&Unit::new_normalize(v3(axis)), angle)
+                .to_rotation_matrix()
+                .into_inner()
+        }
+    }
+}
+
+fn point_marker(sys: &System<Box<dyn Body>>, m: &MarkerSpec) -> Result<Marker, SceneError> {
     Ok(match m.point {
         MarkerPoint::Ground(p) => Marker::ground(v3(p)),
         MarkerPoint::Origin(b) => Marker::origin(BodyId(b)),

@@ -35,10 +35,16 @@ pub(super) fn joints(
             }
             let MarkerPoint::Origin(_) = bm.point else {
                 return Err(c.err(
-                    jr.b.span(),
+                    b.at(&jr.b)?.1,
                     "a `ground` joint takes a body name as `b` (it fixes the body's frame)",
                 ));
             };
+            if bm.axes.is_some() {
+                return Err(c.err(
+                    jr.b.span(),
+                    "a `ground` joint fixes body `b`'s frame where it starts: its marker takes no `axes`",
+                ));
+            }
             out.push(JointSpec {
                 kind: JointKind::Ground,
                 at,
@@ -144,9 +150,11 @@ fn joint_name(i: usize, j: &RawJoint) -> String {
         "joint {} (`{}`{}, b = `{}`)",
         i + 1,
         q(j.kind.get_ref()),
-        j.a.as_ref()
-            .map_or(String::new(), |a| format!(", a = `{}`", q(a.get_ref()))),
-        q(j.b.get_ref())
+        j.a.as_ref().map_or(String::new(), |a| format!(
+            ", a = `{}`",
+            q(a.get_ref().text().unwrap_or(""))
+        )),
+        q(j.b.get_ref().text().unwrap_or(""))
     )
 }
 

@@ -139,7 +139,8 @@ pub fn resolve(raw: &RawScene, text: &str, file: &str, base: &Path) -> Result<Sc
     let forces = raw
         .forces
         .iter()
-        .map(|f| forces::force(&c, &markers, f))
+        .enumerate()
+        .map(|(i, f)| forces::force(&c, &markers, f, i, t_end))
         .collect::<Result<Vec<_>, _>>()?;
     let mut outputs: Vec<ffr_spec::scene::OutputSpec> = Vec::new();
     for o in &raw.outputs {

@@ -75,7 +75,7 @@ pub(super) fn output(c: &Ctx, b: &Markers, o: &RawOutput) -> Result<OutputSpec, 
     let marker = b.marker(at()?)?;
     if matches!(kind, OutputKind::Deflection(_)) && matches!(marker.point, MarkerPoint::Ground(_)) {
         return Err(c.err(
-            at()?.span(),
+            b.at(at()?)?.1,
             "a deflection is measured on a body, not on the ground",
         ));
     }
