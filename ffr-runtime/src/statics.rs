@@ -501,7 +501,7 @@ impl<'s, B: Body> Path<'s, B> {
 
     /// Whether the determinant's sign says `det K̂ < 0` (at rest).
     fn indefinite(&self, sign: f64) -> bool {
-        let parity = if self.m % 2 == 0 { 1.0 } else { -1.0 };
+        let parity = if self.m.is_multiple_of(2) { 1.0 } else { -1.0 };
         self.at_rest() && sign * parity < 0.0
     }
 
