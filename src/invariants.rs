@@ -121,8 +121,7 @@ pub fn of_scene_body(scene: &crate::scene::Scene, name: &str) -> crate::Result<B
             dofs: body.dof_names,
         });
     }
-    let (id, f) = scene.flex_body(name)?;
-    let b = scene.system.body(id);
+    let (b, f) = scene.whole_body(name)?;
     let invariants = b.invariants();
     let dofs = b.layout().labels.clone();
     check_invariants(&invariants, &dofs, f.options.formalism)?;

@@ -39,6 +39,7 @@ pub mod nodal;
 pub mod rigid;
 pub mod rotation;
 pub mod section;
+pub mod segmented;
 pub mod statics;
 pub mod system;
 #[cfg(feature = "tape")]
@@ -66,6 +67,7 @@ pub use monitor::Monitor;
 pub use nalgebra;
 pub use nodal::NodalBody;
 pub use rigid::RigidBody;
+pub use segmented::SegmentGroup;
 pub use system::{BodyEntry, Pose, Rayleigh, System};
 
 /// Energy of a configuration (J).

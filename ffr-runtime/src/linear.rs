@@ -486,11 +486,25 @@ fn output_gradient<B: Body>(
                 gq[g] += s;
             }
         }
-        OutputKind::Deflection(c) => {
-            for (j, (_, s, _)) in out.marker.shape.entries.iter().enumerate() {
-                gq[k.idx[k.n_frame + j]] += s[c];
+        OutputKind::Deflection(c) => match &out.relative_to {
+            // d = a_c · (p − p_r), a_c the reference's axis c.
+            Some(rm) => {
+                let mut kr = sys.marker_kin(rm);
+                kr.eval(rm, q);
+                let (a, dp) = (kr.axes[c], k.pos - kr.pos);
+                for (i, &g) in k.idx.iter().enumerate() {
+                    gq[g] += a.dot(&k.dpos[i]);
+                }
+                for (i, &g) in kr.idx.iter().enumerate() {
+                    gq[g] += kr.daxes[c][i].dot(&dp) - a.dot(&kr.dpos[i]);
+                }
             }
-        }
+            None => {
+                for (j, (_, s, _)) in out.marker.shape.entries.iter().enumerate() {
+                    gq[k.idx[k.n_frame + j]] += s[c];
+                }
+            }
+        },
         OutputKind::Angle => {
             let x = k.axes[0];
             match &out.relative_to {

@@ -113,6 +113,8 @@ pub struct System<B: Body = Box<dyn Body>> {
     pub(crate) forces: Vec<ForceElement>,
     pub(crate) gravity: Vector3<f64>,
     pub(crate) monitor: crate::monitor::Monitor,
+    /// Bodies run as segments ([`System::add_segments`]).
+    pub(crate) segments: Vec<crate::segmented::SegmentGroup>,
 }
 
 impl<B: Body> System<B> {
@@ -137,6 +139,7 @@ impl<B: Body> System<B> {
             forces: Vec::new(),
             gravity: Vector3::zeros(),
             monitor: crate::monitor::Monitor::default(),
+            segments: Vec::new(),
         }
     }
 
@@ -280,12 +283,45 @@ impl<B: Body> System<B> {
             )));
         }
         self.bodies[id.0].damping = Some(damping);
+        // A segmented body's damping is every segment's.
+        if let Some(g) = self.segments.iter().find(|g| g.root() == id) {
+            for b in g.bodies.clone() {
+                self.bodies[b.0].damping = Some(damping);
+            }
+        }
         Ok(())
     }
 
     /// Initial velocity of the body frame: origin velocity `v` and angular
     /// velocity `omega` (global axes; only `omega.z` in the plane).
+    ///
+    /// On the root of a body run as segments, the whole body moves
+    /// rigidly: segment `k` at `v + ω × (R_k − R_root)`.
     pub fn set_velocity(&mut self, id: BodyId, v: Vector3<f64>, omega: Vector3<f64>) -> Result<()> {
+        self.set_frame_velocity(id, v, omega)?;
+        if let Some(g) = self.segments.iter().find(|g| g.root() == id) {
+            let o = self.bodies[id.0].offset;
+            let d = self.dim;
+            let r0 =
+                Vector3::from_iterator((0..3).map(|k| if k < d { self.q0[o + k] } else { 0.0 }));
+            for b in g.bodies[1..].to_vec() {
+                let ob = self.bodies[b.0].offset;
+                let r =
+                    Vector3::from_iterator(
+                        (0..3).map(|k| if k < d { self.q0[ob + k] } else { 0.0 }),
+                    );
+                self.set_frame_velocity(b, v + omega.cross(&(r - r0)), omega)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn set_frame_velocity(
+        &mut self,
+        id: BodyId,
+        v: Vector3<f64>,
+        omega: Vector3<f64>,
+    ) -> Result<()> {
         let (o, d, nth) = {
             let e = self.entry(id)?;
             (e.offset, e.d, e.n_theta)
@@ -310,6 +346,12 @@ impl<B: Body> System<B> {
 
     /// Initial elastic coordinates and velocities.
     pub fn set_elastic(&mut self, id: BodyId, q_f: &[f64], qd_f: &[f64]) -> Result<()> {
+        if self.segment_group(id).is_some() {
+            return Err(Error::InvalidInput(format!(
+                "body `{}` runs as segments: its initial elastic state is not available (start it undeformed)",
+                self.bodies[id.0].name
+            )));
+        }
         let e = self.entry(id)?;
         let (o, nf) = (e.f_offset(), e.nf);
         if q_f.len() != nf || qd_f.len() != nf {
@@ -352,7 +394,22 @@ impl<B: Body> System<B> {
 
     /// The point at `x` on body `b`'s undeformed axis (a beam body), with
     /// the body's axes.
+    ///
+    /// On the root of a body run as segments ([`System::add_segments`]),
+    /// `x` is on the whole body's axis, `[0, L]`, and the marker is on the
+    /// segment that holds it (see [`crate::segmented`]).
     pub fn point(&self, b: BodyId, x: f64) -> Result<Marker> {
+        if let Some(g) = self.segments.iter().find(|g| g.root() == b) {
+            let (k, local) = g.locate(x).ok_or_else(|| {
+                Error::InvalidInput(format!(
+                    "body `{}`: x = {x:?} is not on its axis (0 to {:?} m, {} segments)",
+                    self.bodies[b.0].name,
+                    g.bounds[g.bounds.len() - 1],
+                    g.bodies.len()
+                ))
+            })?;
+            return self.point_on(g.bodies[k], local);
+        }
         let e = self.entry(b)?;
         let shape = e
             .body

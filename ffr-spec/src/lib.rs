@@ -22,6 +22,7 @@ mod options;
 mod params;
 pub mod scene;
 mod section;
+mod segments;
 pub mod text;
 
 pub use attached::{AttachedMass, AttachedMassError};
@@ -36,6 +37,7 @@ pub use params::{Param, ParamError, Params};
 pub use section::{
     element_moments, fill_moments, twisted_moments, SectionError, SectionModel, SectionProp,
 };
+pub use segments::{check_segments, SegmentError, MAX_SEGMENTS};
 
 /// Offsets of the flat array of one element's invariants for `n` element
 /// coordinates, and its length: `[m, S_t0 (3), S̄ (3 n), S̄_kl (9 n²; k, l,

@@ -202,6 +202,11 @@ pub struct FlexSpec {
     pub sections: Option<SectionTable>,
     /// Masses attached on the axis (`[[bodies.NAME.masses]]`), in file order.
     pub masses: Vec<MassSpec>,
+    /// The FFR sub-bodies it runs as (`segments = N`, 1: one floating
+    /// frame); [`FlexSpec::segment`] gives each one's data.
+    pub segments: usize,
+    /// Where `segments` is written (`None`: not written, one segment).
+    pub segments_at: Option<Location>,
 }
 
 /// A mass attached on a flexible body's axis, and where it is written.

@@ -696,12 +696,11 @@ fn modes<'py>(
     };
     let (b, file) = match args.scene(py, scene, body)? {
         Some((s, file)) => {
-            let (id, f) = s
-                .flex_body(body.unwrap_or_default())
+            let (whole, f) = s
+                .whole_body(body.unwrap_or_default())
                 .map_err(FfrError::new_err)?;
             (
-                ReducibleBody::of_scene_body(f, s.system.body(id))
-                    .map_err(|e| py_err(e, Some(&file)))?,
+                ReducibleBody::of_scene_body(f, whole).map_err(|e| py_err(e, Some(&file)))?,
                 Some(file),
             )
         }

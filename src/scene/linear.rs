@@ -171,10 +171,18 @@ pub fn inputs(
 }
 
 /// The system constraint of joint `ji`'s drive (0-based in `[[joints]]`),
-/// as the builder adds them: a ground or folded joint none, any other its
-/// own and then its drive's.
+/// as the builder adds them: first the cut joints of segmented bodies
+/// (one per cut), then per joint: a ground or folded joint none, any other
+/// its own and then its drive's.
 fn drive_constraint(spec: &SceneSpec, ji: usize) -> Option<usize> {
-    let mut c = 0;
+    let mut c: usize = spec
+        .bodies
+        .iter()
+        .map(|b| match &b.kind {
+            BodyKind::Flexible(f) => f.segments.saturating_sub(1),
+            _ => 0,
+        })
+        .sum();
     for (i, j) in spec.joints.iter().enumerate() {
         if j.kind == JointKind::Ground || j.folds.is_some() {
             if i == ji {

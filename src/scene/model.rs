@@ -38,6 +38,9 @@ pub struct Scene {
     pub flex: Vec<FlexSpec>,
     /// The FE bodies as described (in body order).
     pub fe: Vec<crate::runtime::spec::scene::FeSpec>,
+    /// The bodies run as segments, each also as one body (`segments = 1`):
+    /// what [`Scene::whole_body`] gives for modes, invariants and export.
+    pub unsplit: Vec<(String, Box<dyn Body>)>,
     /// How each body runs: `compiled`, `tape`, `rigid`.
     pub kernels: Vec<(String, String)>,
     /// What the loader folded in or left out (one line each).
@@ -73,5 +76,16 @@ impl Scene {
             .body_id(name)
             .expect("a flexible body of the scene is in its system");
         Ok((id, f))
+    }
+
+    /// The flexible body `name` as one body, and how it was made: the
+    /// system's body, or, for a body run as segments, the whole body built
+    /// alongside (its modes, invariants and export are the whole body's).
+    pub fn whole_body(&self, name: &str) -> Result<(&dyn Body, &FlexSpec), String> {
+        let (id, f) = self.flex_body(name)?;
+        Ok(match self.unsplit.iter().find(|(n, _)| n == name) {
+            Some((_, b)) => (b.as_ref(), f),
+            None => (self.system.body(id).as_ref(), f),
+        })
     }
 }

@@ -224,14 +224,22 @@ impl Recorder {
                     match kind {
                         OutputKind::Position(c) => k.pos[*c],
                         OutputKind::Velocity(c) => k.velocity(qd)[*c],
-                        OutputKind::Deflection(c) => o
-                            .marker
-                            .shape
-                            .entries
-                            .iter()
-                            .enumerate()
-                            .map(|(j, (_, s, _))| s[*c] * q[k.idx[k.n_frame + j]])
-                            .sum(),
+                        OutputKind::Deflection(c) => match rel {
+                            // On an outboard segment: from the undeformed
+                            // point in the root segment's frame, in its axes.
+                            Some(r) => {
+                                r.eval(o.relative_to.as_ref().expect("relative"), q);
+                                r.axes[*c].dot(&(k.pos - r.pos))
+                            }
+                            None => o
+                                .marker
+                                .shape
+                                .entries
+                                .iter()
+                                .enumerate()
+                                .map(|(j, (_, s, _))| s[*c] * q[k.idx[k.n_frame + j]])
+                                .sum(),
+                        },
                         OutputKind::Angle => {
                             let x = k.axes[0];
                             let raw = match rel {

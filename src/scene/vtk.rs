@@ -187,11 +187,15 @@ pub fn drawing(scene: &Scene) -> crate::Result<Vec<DrawnBody>> {
                 kind: Drawn::Nodes,
                 points,
             });
+        } else if sys.is_outboard_segment(id) {
+            // Drawn with its body's root segment, as one line.
+            continue;
         } else if let Some(f) = scene.flex.iter().find(|f| f.name == e.name) {
             let mut points = Vec::new();
             for (x, node) in axis_points(&node_xs(f)) {
+                // On a segmented body, the point's own segment (and frame).
                 let marker = sys.point(id, x)?;
-                let frame = rigid(Vector3::from(marker.shape.u0));
+                let frame = Marker::at(marker.body.unwrap_or(id), Vector3::from(marker.shape.u0));
                 points.push(DrawnPoint {
                     marker,
                     frame,

@@ -191,7 +191,7 @@ impl Bake for ffr_spec::scene::FlexSpec {
             unit(s, "FrameModel", &o.frame),
         );
         format!(
-            "{s}::scene::FlexSpec {{ name: {}, shape: {}, shape_name: {}, shape_at: {}, elements: {}, nodes: {}, reference: {}, options: {options}, params: {s}::Params::from_array({}), given: {}, params_at: {}, modal: {}, sections: {}, masses: {} }}",
+            "{s}::scene::FlexSpec {{ name: {}, shape: {}, shape_name: {}, shape_at: {}, elements: {}, nodes: {}, reference: {}, options: {options}, params: {s}::Params::from_array({}), given: {}, params_at: {}, modal: {}, sections: {}, masses: {}, segments: {}, segments_at: {} }}",
             self.name.bake(s),
             self.shape.bake(s),
             self.shape_name.bake(s),
@@ -204,7 +204,9 @@ impl Bake for ffr_spec::scene::FlexSpec {
             self.params_at.bake(s),
             self.modal.bake(s),
             self.sections.bake(s),
-            self.masses.bake(s)
+            self.masses.bake(s),
+            self.segments.bake(s),
+            self.segments_at.bake(s)
         )
     }
 }

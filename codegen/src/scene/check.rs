@@ -339,6 +339,7 @@ pub fn check(raw: &RawScene, text: &str, file: &str) -> Result<(), Error> {
             ("shape", sp(&rb.shape)),
             ("elements", sp(&rb.elements)),
             ("nodes", sp(&rb.nodes)),
+            ("segments", sp(&rb.segments)),
             ("sections", sp(&rb.sections)),
             ("reference", sp(&rb.reference)),
             ("stiffening", sp(&rb.stiffening)),
@@ -378,6 +379,10 @@ pub fn check(raw: &RawScene, text: &str, file: &str) -> Result<(), Error> {
                         "elastic",
                         "`elastic` is the initial state of a flexible body",
                     ),
+                    (
+                        "segments",
+                        "`segments` splits a flexible beam into FFR sub-bodies; a rigid body has one frame",
+                    ),
                 ],
             )?;
         } else if rb.fe.is_some() {
@@ -406,6 +411,7 @@ pub fn check(raw: &RawScene, text: &str, file: &str) -> Result<(), Error> {
                     ("shape", "an FE body's geometry is its mesh (`fe`): give `shape` (a beam) or `fe`, not both"),
                     ("stiffening", "geometric stiffening is not available from M and K alone: it needs the stress-dependent geometric stiffness of the elements, which the mass and stiffness matrices do not carry, so an FE body is linear elastic in its frame"),
                     ("elements", "an FE body's mesh is its node file (`fe.nodes`)"),
+                    ("segments", "`segments` splits a beam at nodes of its axis; an FE body is reduced as one body"),
                     ("nodes", "an FE body's nodes are its node file (`fe.nodes`); `nodes` is a beam's graded mesh"),
                     ("params", "an FE body's properties are in its mass and stiffness matrices"),
                     ("sections", "an FE body's properties are in its mass and stiffness matrices"),
@@ -419,6 +425,7 @@ pub fn check(raw: &RawScene, text: &str, file: &str) -> Result<(), Error> {
                 "shape",
                 "elements",
                 "nodes",
+                "segments",
                 "sections",
                 "reference",
                 "stiffening",

@@ -59,6 +59,8 @@ pub struct RawBody {
     /// A graded mesh: the nodes' x (m), from 0 to the length (instead of
     /// `elements`).
     pub nodes: Option<Spanned<Vec<f64>>>,
+    /// Run as `N` FFR sub-bodies joined at `N − 1` cuts on nodes.
+    pub segments: Option<Spanned<i64>>,
     /// Sections varying along the span: a CSV file (relative to the scene
     /// file) or an array of tables (instead of `params`).
     pub sections: Option<Spanned<toml::Value>>,

@@ -156,8 +156,9 @@ fn reducible_from_scene(
     name: &str,
 ) -> Result<(ReducibleBody, DrawnBeam), Box<dyn Error>> {
     let (id, f) = scene.flex_body(name)?;
-    let b = ReducibleBody::of_scene_body(f, scene.system.body(id))?;
-    let drawn = if scene.system.body(id).layout().nf == b.dofs.len() {
+    let (whole, _) = scene.whole_body(name)?;
+    let b = ReducibleBody::of_scene_body(f, whole)?;
+    let drawn = if f.segments <= 1 && scene.system.body(id).layout().nf == b.dofs.len() {
         DrawnBeam::Scene(Box::new(scene), id)
     } else {
         let f = f.clone();
@@ -460,8 +461,8 @@ pub fn export(
                     (ffr::fe::describe(&fe), basis, e)
                 }
                 None => {
-                    let (id, f) = scene.flex_body(name)?;
-                    let b = ReducibleBody::of_scene_body(f, scene.system.body(id))?;
+                    let (whole, f) = scene.whole_body(name)?;
+                    let b = ReducibleBody::of_scene_body(f, whole)?;
                     let basis = b.reduce(count, boundary, "--modes")?;
                     let e = ExportBody::new(&b.spec, &b.params, &b.invariants, &basis)?;
                     (b.description(), basis, e)

@@ -10,13 +10,17 @@ use crate::runtime::{Body, KernelBody, Pose, Rayleigh, RigidBody};
 use crate::scene::provider::KernelProvider;
 use crate::SceneError;
 
-/// Add the scene's bodies to the system, in file order.
+/// Add the scene's bodies to the system, in file order (body `i` of the
+/// spec is `BodyId(i)`); then the further segments of the bodies run as
+/// segments (`NAME[2]`, …, with their cut joints: the system's first
+/// constraints); then the bodies' damping, velocities and elastic states.
 pub(super) fn add_bodies(
     spec: &SceneSpec,
     provider: &dyn KernelProvider,
     parts: &mut Parts,
 ) -> Result<(), SceneError> {
     let dim = spec.dim;
+    let mut ids = Vec::with_capacity(spec.bodies.len());
     for b in &spec.bodies {
         let name = &b.name;
         let pose = match b.orientation {
@@ -47,13 +51,61 @@ pub(super) fn add_bodies(
                 parts.kernels.push((name.clone(), "rigid".to_string()));
                 Box::new(rbody)
             }
-            BodyKind::Flexible(f) => flexible(b, f, dim, provider, parts)?,
+            BodyKind::Flexible(f) => {
+                parts.flex.push(f.clone());
+                flexible(name, &b.at, &f.segment(0), dim, provider, parts)?
+            }
             BodyKind::Fe(f) => fe_body(b, f, parts)?,
         };
-        let sys = &mut parts.sys;
-        let id = sys
+        let id = parts
+            .sys
             .add_body(name, boxed, pose)
             .map_err(|e| err(&b.at, e.to_string()))?;
+        ids.push(id);
+    }
+    for (b, &id) in spec.bodies.iter().zip(&ids) {
+        let BodyKind::Flexible(f) = &b.kind else {
+            continue;
+        };
+        if f.segments <= 1 {
+            continue;
+        }
+        let at = f.segments_at.as_ref().unwrap_or(&b.at);
+        let rest = (1..f.segments)
+            .map(|k| {
+                let s = f.segment(k);
+                flexible(&s.name, at, &s, dim, provider, parts)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        parts
+            .sys
+            .add_segments(id, rest, &f.segment_bounds())
+            .map_err(|e| err(at, e.to_string()))?;
+        // The whole body as one (`segments = 1`), for what asks for the
+        // body as a whole: its modes, invariants, export.
+        let whole = FlexSpec {
+            segments: 1,
+            ..f.clone()
+        };
+        let kernels = parts.kernels.len();
+        let body = flexible(&b.name, at, &whole, dim, provider, parts)?;
+        parts.kernels.truncate(kernels);
+        parts.unsplit.push((b.name.clone(), body));
+        parts.notes.push(format!(
+            "body `{}`: {} segments of {} elements, joined at x = {}",
+            b.name,
+            f.segments,
+            f.elements / f.segments,
+            f.segment_bounds()[1..f.segments]
+                .iter()
+                .map(|x| format!("{x}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    for (b, &id) in spec.bodies.iter().zip(&ids) {
+        let name = &b.name;
+        let sys = &mut parts.sys;
         if let Some((alpha, beta, at)) = &b.damping {
             let r = Rayleigh {
                 alpha: *alpha,
@@ -94,15 +146,16 @@ pub(super) fn add_bodies(
     Ok(())
 }
 
-/// A flexible body on the provider's kernels (reduced when it is modal).
-fn flexible(
-    b: &BodySpec,
+/// A flexible body (or one segment of one) on the provider's kernels
+/// (reduced when it is modal); `at` is where the body is written.
+pub(super) fn flexible(
+    name: &str,
+    at: &crate::runtime::spec::Location,
     f: &FlexSpec,
     dim: usize,
     provider: &dyn KernelProvider,
     parts: &mut Parts,
 ) -> Result<Box<dyn Body>, SceneError> {
-    let name = &b.name;
     let (kernels, path) = provider
         .kernels(f)
         .map_err(|e| err(&f.shape_at, format!("body `{name}`: {e}")))?;
@@ -163,7 +216,7 @@ fn flexible(
             )
         }
     }
-    .map_err(|e| err(&b.at, format!("body `{name}`: {e}")))?;
+    .map_err(|e| err(at, format!("body `{name}`: {e}")))?;
     let kb = if f.masses.is_empty() {
         kb
     } else {
@@ -175,11 +228,11 @@ fn flexible(
         }
         let masses: Vec<_> = f.masses.iter().map(|m| m.mass).collect();
         kb.with_masses(&masses)
-            .map_err(|e| err(&b.at, format!("body `{name}`: {e}")))?
+            .map_err(|e| err(at, format!("body `{name}`: {e}")))?
     };
     let boxed: Box<dyn Body> = match &f.modal {
         None => {
-            parts.kernels.push((name.clone(), path.to_string()));
+            parts.kernels.push((name.to_string(), path.to_string()));
             Box::new(kb)
         }
         Some((settings, modes_at)) => {
@@ -204,7 +257,7 @@ fn flexible(
             }
             .map_err(|e| err(modes_at, format!("body `{name}`: {e}")))?;
             parts.kernels.push((
-                name.clone(),
+                name.to_string(),
                 format!(
                     "modal, {} modes, {when} ({path} full body for markers)",
                     mb.layout().nf
@@ -213,7 +266,6 @@ fn flexible(
             mb
         }
     };
-    parts.flex.push(f.clone());
     Ok(boxed)
 }
 

@@ -16,7 +16,20 @@ use crate::SceneError;
 pub(super) fn add_joints(spec: &SceneSpec, parts: &mut Parts) -> Result<Vec<Location>, SceneError> {
     let dim = spec.dim;
     let Parts { sys, notes, .. } = parts;
-    let mut sites: Vec<Location> = Vec::new();
+    // The cut joints of segmented bodies come first (added with the
+    // bodies): located at each body's `segments`.
+    let mut sites: Vec<Location> = spec
+        .bodies
+        .iter()
+        .flat_map(|b| match &b.kind {
+            BodyKind::Flexible(f) if f.segments > 1 => {
+                let at = f.segments_at.clone().unwrap_or_else(|| b.at.clone());
+                vec![at; f.segments - 1]
+            }
+            _ => Vec::new(),
+        })
+        .collect();
+    debug_assert_eq!(sites.len(), sys.constraints().len());
     for (ji, j) in spec.joints.iter().enumerate() {
         if let Some(prev) = ji.checked_sub(1) {
             sites.resize(sys.constraints().len(), spec.joints[prev].at.clone());

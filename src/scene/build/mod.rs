@@ -145,6 +145,7 @@ struct Parts {
     kernels: Vec<(String, String)>,
     flex: Vec<crate::runtime::spec::scene::FlexSpec>,
     fe: Vec<crate::runtime::spec::scene::FeSpec>,
+    unsplit: Vec<(String, Box<dyn Body>)>,
 }
 
 /// Build the scene `spec` describes, with the flexible bodies' kernels from
@@ -156,6 +157,7 @@ pub fn build(spec: &SceneSpec, provider: &dyn KernelProvider) -> Result<Scene, S
         kernels: Vec::new(),
         flex: Vec::new(),
         fe: Vec::new(),
+        unsplit: Vec::new(),
     };
     bodies::add_bodies(spec, provider, &mut parts)?;
     if let Some((g, at)) = &spec.gravity {
@@ -194,6 +196,7 @@ pub fn build(spec: &SceneSpec, provider: &dyn KernelProvider) -> Result<Scene, S
         outputs,
         flex: parts.flex,
         fe: parts.fe,
+        unsplit: parts.unsplit,
         kernels: parts.kernels,
         notes: parts.notes,
     })

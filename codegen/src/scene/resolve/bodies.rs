@@ -133,6 +133,20 @@ pub(super) fn bodies(
                     format!("body `{name_s}`: a modal body with attached masses (`masses`) is not reduced yet: remove `modes` or the masses"),
                 ));
             }
+            let (segments, segments_at) = match &rb.segments {
+                None => (1, None),
+                Some(s) => {
+                    let k = ffr_spec::check_segments(*s.get_ref(), n)
+                        .map_err(|e| c.err(s.span(), format!("body `{name_s}`: {e}")))?;
+                    if let (true, Some(el)) = (k > 1, &rb.elastic) {
+                        return Err(c.err(
+                            el.span(),
+                            format!("body `{name_s}` runs as {k} segments: an initial elastic state (`elastic`) names the coordinates of one frame and is not available for a segmented body; start it undeformed or use `segments = 1`"),
+                        ));
+                    }
+                    (k, Some(c.loc(s.span())))
+                }
+            };
             let shape_s = shape.get_ref();
             let resolved = if crate::Shape::builtin(shape_s).is_some() {
                 shape_s.clone()
@@ -155,6 +169,8 @@ pub(super) fn bodies(
                 modal: modal.map(|(s, span)| (s, c.loc(span))),
                 sections,
                 masses,
+                segments,
+                segments_at,
             })
         };
         let rigid = rigid_body(rb);
