@@ -117,6 +117,50 @@ pub fn check_distinct(outputs: &[(&str, &Path)]) -> Result<(), OutputError> {
     Ok(())
 }
 
+/// Whether `a` and `b` are the same file: the same path after
+/// [`normalized`], the same file after resolving symbolic links, or (on
+/// Unix) the same device and inode (a hard link).
+fn same_file(a: &Path, b: &Path) -> bool {
+    if normalized(a) == normalized(b) {
+        return true;
+    }
+    if let (Ok(x), Ok(y)) = (a.canonicalize(), b.canonicalize()) {
+        if x == y {
+            return true;
+        }
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let (Ok(x), Ok(y)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+            return x.dev() == y.dev() && x.ino() == y.ino();
+        }
+    }
+    false
+}
+
+/// Refuse an output that would replace an input of the command (`ffr
+/// static scene.toml --csv scene.toml`): the same path, a symbolic or hard
+/// link to it. `outputs` and `inputs` are `(flag or role, path)`.
+pub fn check_not_inputs(
+    outputs: &[(&str, &Path)],
+    inputs: &[(&str, &Path)],
+) -> Result<(), OutputError> {
+    for (flag, out) in outputs {
+        for (role, input) in inputs {
+            if same_file(out, input) {
+                return Err(error(
+                    out,
+                    format!(
+                        "{flag} would overwrite {role}, an input of the command: give another path"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// What a file that is not a regular file is, for messages.
 fn kind_of(t: &std::fs::FileType) -> &'static str {
     if t.is_dir() {
@@ -386,6 +430,36 @@ mod tests {
         assert_eq!(number(1.25e-25), "1.25e-25");
         assert_eq!(number(6.02e23), "6.02e23");
         assert_eq!(number(0.25), "0.25");
+    }
+
+    #[test]
+    fn an_output_may_not_replace_an_input() {
+        let d = temp_dir("inputs");
+        let scene = d.join("s.toml");
+        std::fs::write(&scene, b"x").unwrap();
+        let other = d.join("out.csv");
+        assert!(check_not_inputs(&[("--csv", &other)], &[("the scene file", &scene)]).is_ok());
+        for same in [scene.clone(), d.join("./s.toml"), d.join("sub/../s.toml")] {
+            let e = check_not_inputs(&[("--csv", &same)], &[("the scene file", &scene)])
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("--csv would overwrite the scene file"), "{e}");
+        }
+        #[cfg(unix)]
+        {
+            let link = d.join("link.toml");
+            std::os::unix::fs::symlink(&scene, &link).unwrap();
+            let hard = d.join("hard.toml");
+            std::fs::hard_link(&scene, &hard).unwrap();
+            for p in [link, hard] {
+                assert!(
+                    check_not_inputs(&[("--csv", &p)], &[("the scene file", &scene)]).is_err(),
+                    "{}",
+                    p.display()
+                );
+            }
+        }
+        std::fs::remove_dir_all(&d).unwrap();
     }
 
     #[test]

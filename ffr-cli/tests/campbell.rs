@@ -887,3 +887,41 @@ fn slender_rotating_cantilever_follows_hamza_cherif_and_houmat() {
         assert!(uncoupled - l > 0.85 * (uncoupled - tl), "μ = {mu}: lag {l}");
     }
 }
+
+/// A flexible body turning with the Campbell joint without geometric
+/// stiffening cannot show its flap frequencies rising with the speed:
+/// `ffr campbell` warns once on stderr, at the body's table, saying what
+/// to set, and lists the warning in `--json`; with stiffening, nothing.
+#[test]
+fn no_stiffening_is_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = include_str!("../../scenes/spin_up.toml");
+    let off = text.replace("stiffening = true", "stiffening = false");
+    assert_ne!(off, text);
+    for (name, t, warned) in [
+        ("on.toml", text.to_string(), false),
+        ("off.toml", off, true),
+    ] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, t).unwrap();
+        let p = path.to_str().unwrap();
+        let (ok, out, err) = ffr(&["campbell", p, "--speeds", "0,2", "--count", "2", "--json"]);
+        assert!(ok, "{err}");
+        let js: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let warnings = js["warnings"].as_array().unwrap();
+        if warned {
+            assert_eq!(err.matches("warning: ").count(), 1, "{err}");
+            assert!(
+                err.contains(&format!("warning: {p}:"))
+                    && err
+                        .contains("body `beam` turns with joint 1 but has no geometric stiffening")
+                    && err.contains("set `stiffening = true`"),
+                "{err}"
+            );
+            assert_eq!(warnings.len(), 1, "{js}");
+        } else {
+            assert!(!err.contains("warning"), "{err}");
+            assert!(warnings.is_empty(), "{js}");
+        }
+    }
+}

@@ -95,6 +95,20 @@ pub enum Error {
         /// Which bound was exceeded, with the numbers.
         reason: String,
     },
+    /// A static equilibrium or steady state was not found
+    /// ([`crate::statics`]): the loads have none that load stepping
+    /// reaches (a mechanism, a limit or bifurcation point, no
+    /// convergence), or the one reached is not unique or not stable.
+    #[error("no {what} found at t = {t} s: {reason}")]
+    NoEquilibrium {
+        /// `static equilibrium` or `steady state`.
+        what: &'static str,
+        /// The time of the loads and prescribed motions.
+        t: f64,
+        /// Why, where (the coordinate or joint), and how far the load
+        /// stepping got.
+        reason: String,
+    },
     /// Initial conditions could not be made consistent with the constraints.
     #[error(
         "inconsistent initial conditions: constraint violation {violation:.3e} after projection"

@@ -12,7 +12,8 @@
 //!   constraint rows).
 //! - [`integrator`]: generalized-α (index 3) and RK4–Baumgarte.
 //! - [`linear`]: linear models `ẋ = A x + B u`, `y = C x + D u` on the
-//!   constraint manifold, eigenvalues, static and steadily rotating states.
+//!   constraint manifold, eigenvalues; [`statics`]: static equilibria and
+//!   steady rotations (one Newton driver with load stepping).
 
 pub mod assembly;
 mod attached;
@@ -39,6 +40,7 @@ pub mod rigid;
 pub mod rotation;
 pub mod section;
 pub mod segmented;
+pub mod statics;
 pub mod system;
 #[cfg(feature = "tape")]
 pub mod tape;

@@ -564,7 +564,7 @@ pub enum SteadyMotion {
 
 /// `q̇`, `q̈` of the free coordinates for `motion` at `q`, and their
 /// derivatives by `q` (dense, free × free, local indices).
-fn steady_rates<B: Body>(
+pub(crate) fn steady_rates<B: Body>(
     sys: &System<B>,
     free: &[usize],
     motion: SteadyMotion,
@@ -636,84 +636,26 @@ fn steady_rates<B: Body>(
 }
 
 /// The steady state of `sys` at time `t` with `motion` (static equilibrium
-/// or a steady rotation), from `start`: Newton on the residual
-/// `[r(q, q̇(q), q̈(q), λ); Φ(q, t)] = 0` over the free coordinates and the
-/// multipliers with the exact matrix `[K + C ∂q̇/∂q + M ∂q̈/∂q, Φ_qᵀ; Φ_q, 0]`
-/// (prescribed coordinates from their drivers at `t`). Converged when an
-/// update is below `10⁻¹³ (1 + ‖q‖∞)`, or below `10⁻⁸ (1 + ‖q‖∞)` and no
-/// longer shrinking (round-off); at most 60 iterations. A singular matrix
-/// or no convergence is [`Error::InvalidInput`] saying what was reached.
+/// or a steady rotation), from `start`: the shared Newton driver of
+/// [`crate::statics`] with automatic load stepping — Newton on the
+/// residual `[r(q, q̇(q), q̈(q), λ); Φ(q, t)] = 0` over the free
+/// coordinates and the multipliers with the exact matrix
+/// `[K + C ∂q̇/∂q + M ∂q̈/∂q, Φ_qᵀ; Φ_q, 0]` (at rest the bordered
+/// `[K, Φ_qᵀ; Φ_q, 0]`; prescribed coordinates from their drivers at `t`,
+/// held at rest). No steady state ([`Error::NoEquilibrium`]) says why and
+/// how far the load stepping got.
 pub fn steady_state<B: Body>(
     sys: &System<B>,
     t: f64,
     start: &State,
     motion: SteadyMotion,
 ) -> Result<State> {
-    let mut asm = Assembly::new(sys)?;
-    let (n, m) = (asm.n, asm.m);
-    let mut q = start.q.clone();
-    let mut v = start.v.clone();
-    let mut a = start.a.clone();
-    let mut lam = start.lambda.clone();
-    asm.apply_prescribed(t, &mut q, &mut v, &mut a);
-    let free = asm.free_coordinates();
-    let nu = free.len();
-    let mut r = vec![0.0; n + m];
-    let mut last = f64::INFINITY;
-    for it in 0..60 {
-        let (dv, da) = steady_rates(sys, &free, motion, &q, &mut v, &mut a);
-        let parts = asm.tangent_parts(t, &q, &v, &a, &lam);
-        asm.residual(t, &q, &v, &a, &lam, &mut r);
-        let mut jm = DMatrix::zeros(nu + m, nu + m);
-        let kk = &parts.k + &parts.c * &dv + &parts.m * &da;
-        jm.view_mut((0, 0), (nu, nu)).copy_from(&kk);
-        jm.view_mut((0, nu), (nu, m))
-            .copy_from(&parts.phi_q.transpose());
-        jm.view_mut((nu, 0), (m, nu)).copy_from(&parts.phi_q);
-        let rhs = DVector::from_iterator(
-            nu + m,
-            free.iter().map(|&c| -r[c]).chain((0..m).map(|k| -r[n + k])),
-        );
-        if !rhs.iter().all(|x| x.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "the steady state at t = {t}: non-finite residual at Newton iteration {it}"
-            )));
-        }
-        let Some(dx) = jm.lu().solve(&rhs) else {
-            return Err(Error::InvalidInput(format!(
-                "the steady-state Newton matrix is singular at t = {t} (iteration {it}): a free coordinate with no stiffness against the loads (an unloaded mechanism, or an unstable equilibrium such as a pendulum horizontal)"
-            )));
-        };
-        for (i, &c) in free.iter().enumerate() {
-            q[c] += dx[i];
-        }
-        for k in 0..m {
-            lam[k] += dx[nu + k];
-        }
-        let qmax = q.iter().fold(0.0f64, |s, x| s.max(x.abs()));
-        let step = dx.rows(0, nu).amax();
-        if !step.is_finite() {
-            break;
-        }
-        if step <= 1e-13 * (1.0 + qmax) || (step <= 1e-8 * (1.0 + qmax) && step >= 0.5 * last) {
-            let _ = steady_rates(sys, &free, motion, &q, &mut v, &mut a);
-            return Ok(State {
-                t,
-                q,
-                v,
-                a,
-                lambda: lam,
-            });
-        }
-        last = step;
-    }
-    asm.residual(t, &q, &v, &a, &lam, &mut r);
-    let res = free
-        .iter()
-        .map(|&c| r[c].abs())
-        .chain((0..m).map(|k| r[n + k].abs()))
-        .fold(0.0f64, f64::max);
-    Err(Error::InvalidInput(format!(
-        "no steady state found at t = {t}: Newton on the residual did not converge in 60 iterations (largest residual {res:.3e}, last update {last:.3e}); the loads may have no equilibrium (e.g. spin softening past a bending frequency)"
-    )))
+    crate::statics::equilibrium(
+        sys,
+        t,
+        start,
+        motion,
+        &crate::statics::StaticOptions::default(),
+    )
+    .map(|e| e.state)
 }

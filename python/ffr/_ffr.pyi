@@ -64,6 +64,13 @@ class Scene:
         """Run the scene with the GIL released; raises SimulationError if
         the run stops early. ``vtk=DIR`` also writes the ParaView time
         series of ``ffr run --vtk DIR --every EVERY`` (docs/vtk.md)."""
+    def static(self, steps: Optional[int] = None) -> "Static":
+        """The static equilibrium under the scene's loads at t = 0 with the
+        GIL released, as ``ffr static --json``: ``outputs`` (each output's
+        value), ``steps`` (load increments used) and ``iterations``
+        (Newton iterations). ``steps=K`` takes K equal load increments
+        (default: automatic). Raises SimulationError if there is no
+        equilibrium (a mechanism, an unstable state, no convergence)."""
 
 class RunResult:
     """A scene run: each output by name as a numpy array, the times ``t``,
@@ -127,6 +134,12 @@ class Campbell(TypedDict):
     speeds: FloatArray
     joint: int
     modes: List[List[CampbellMode]]
+    warnings: List[str]
+
+class Static(TypedDict):
+    outputs: Dict[str, float]
+    steps: int
+    iterations: int
 
 def invariants(
     shape: Optional[str] = None,

@@ -310,6 +310,40 @@ impl Scene {
         })
     }
 
+    /// The static equilibrium under the scene's loads at t = 0 (the GIL
+    /// released), as `ffr static --json` gives it: a dict `{"outputs":
+    /// {NAME: value, …}, "steps": K, "iterations": n}`. `steps = K` takes
+    /// K equal load increments (default: automatic). No equilibrium (a
+    /// mechanism, an unstable state, no convergence) raises
+    /// `SimulationError` with the command line's message.
+    #[pyo3(name = "static", signature = (steps = None))]
+    fn static_<'py>(
+        &self,
+        py: Python<'py>,
+        steps: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let steps = match steps {
+            None => None,
+            Some(v) => Some(load_steps(v)?),
+        };
+        let loaded = self.snapshot();
+        let scene = loaded.built;
+        let file = loaded.text.file().to_string();
+        let options = ffr::scene::statics::StaticOptions { steps };
+        let s = py
+            .detach(move || ffr::scene::statics::solve(&scene, &options))
+            .map_err(|e| py_err(e, Some(&file)))?;
+        let outputs = PyDict::new(py);
+        for (n, v) in s.names.iter().zip(&s.values) {
+            outputs.set_item(n, v)?;
+        }
+        let out = PyDict::new(py);
+        out.set_item("outputs", outputs)?;
+        out.set_item("steps", s.steps)?;
+        out.set_item("iterations", s.iterations)?;
+        Ok(out)
+    }
+
     fn __repr__(&self) -> String {
         let t = self.snapshot().text;
         if t.overrides().is_empty() {
@@ -691,6 +725,26 @@ fn modes<'py>(
     modes_dict(py, &b, &basis)
 }
 
+/// `steps = K` of `Scene.static`: an integer (an `int` or a numpy
+/// integer, by `__index__`) from 1 to `MAX_STEPS`; a bool or a float is
+/// refused, not rounded.
+fn load_steps(v: &Bound<'_, PyAny>) -> PyResult<usize> {
+    let max = ffr::scene::statics::MAX_STEPS;
+    if v.is_instance_of::<PyBool>() || v.is_instance_of::<PyFloat>() || !v.hasattr("__index__")? {
+        return Err(PyTypeError::new_err(format!(
+            "steps = {}: expected a whole number of load increments from 1 to {max}",
+            v.repr()?
+        )));
+    }
+    match v.call_method0("__index__")?.extract::<i64>() {
+        Ok(k) if k >= 1 && k as u64 <= max as u64 => Ok(k as usize),
+        _ => Err(PyValueError::new_err(format!(
+            "steps = {}: expected a whole number of load increments from 1 to {max}",
+            v.repr()?
+        ))),
+    }
+}
+
 /// The state a linear model is taken about: a time (s) or `"static"`.
 fn at(v: &Bound<'_, PyAny>) -> PyResult<At> {
     if let Ok(s) = v.cast::<PyString>() {
@@ -755,8 +809,9 @@ fn linearize<'py>(
 
 /// A Campbell diagram: the scene's lowest `count` modes while its driven
 /// revolute joint (`joint`, 1-based; default the first) turns at each of
-/// `speeds` (rad/s), as `ffr campbell --json` gives it: `speeds`, `joint`
-/// and `modes` (per speed, a list of `{omega, hz, zeta, label}`).
+/// `speeds` (rad/s), as `ffr campbell --json` gives it: `speeds`, `joint`,
+/// `modes` (per speed, a list of `{omega, hz, zeta, label}`) and
+/// `warnings` (a flexible body turning without geometric stiffening).
 #[pyfunction]
 #[pyo3(signature = (scene, speeds, joint = None, count = 10))]
 fn campbell<'py>(
@@ -807,6 +862,7 @@ fn campbell<'py>(
         modes.append(l)?;
     }
     out.set_item("modes", modes)?;
+    out.set_item("warnings", c.warnings.clone())?;
     Ok(out)
 }
 

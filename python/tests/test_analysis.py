@@ -96,3 +96,28 @@ def test_campbell(ffr_bin):
     r = ffr.campbell(path, [0.0, 2.0, 4.0], count=3)
     assert r.pop("joint") == 1
     assert_same(r, js)
+
+
+def test_static(ffr_bin):
+    path = SCENES / "pendulum.toml"
+    js = json.loads(cli(ffr_bin, "static", path, "--json"))
+    r = ffr.Scene.load(path).static()
+    assert set(r) == {"outputs", "steps", "iterations"}
+    assert_same(r, js)
+    js3 = json.loads(cli(ffr_bin, "static", path, "--steps", 3, "--json"))
+    r3 = ffr.Scene.load(path).static(steps=3)
+    assert r3["steps"] == 3
+    assert_same(r3, js3)
+
+
+def test_static_errors():
+    scene = ffr.Scene.load(SCENES / "free_floating.toml")
+    with pytest.raises(ffr.SimulationError, match="no static equilibrium found.*mechanism"):
+        scene.static()
+    pendulum = ffr.Scene.load(SCENES / "pendulum.toml")
+    for bad in (0, -1, 10001):
+        with pytest.raises(ValueError, match="steps"):
+            pendulum.static(steps=bad)
+    for bad in (2.0, True, "3"):
+        with pytest.raises(TypeError, match="steps"):
+            pendulum.static(steps=bad)

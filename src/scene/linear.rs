@@ -240,8 +240,15 @@ pub fn operating_state(scene: &Scene, at: At) -> crate::Result<State> {
     let sys = &scene.system;
     match at {
         At::Static => {
+            // The solver of `ffr static` (automatic load stepping).
             let start = sys.initial_state(0.0)?;
-            Ok(steady_state(sys, 0.0, &start, SteadyMotion::Rest)?)
+            Ok(crate::runtime::statics::static_equilibrium(
+                sys,
+                0.0,
+                &start,
+                &crate::runtime::statics::StaticOptions::default(),
+            )?
+            .state)
         }
         At::Time(t) if !(t.is_finite() && t >= 0.0) => {
             Err(format!("--at {t}: a time must be finite and ≥ 0").into())
@@ -452,6 +459,74 @@ pub struct Campbell {
     pub joint: usize,
     /// Per speed, the modes, lowest first.
     pub modes: Vec<Vec<CampbellMode>>,
+    /// What the diagram may not show ([`stiffening_warnings`]: a flexible
+    /// body turning with the joint without geometric stiffening), one
+    /// sentence each, located at the body's table.
+    pub warnings: Vec<String>,
+}
+
+/// The bodies that turn with joint `ji` (0-based in `[[joints]]`): its
+/// body `b` and every body joined to one of them by another joint (the
+/// ground excluded), by index in `[[bodies]]`.
+fn turning_bodies(spec: &SceneSpec, ji: usize) -> Vec<usize> {
+    let body = |m: &crate::runtime::spec::scene::MarkerSpec| match m.point {
+        MarkerPoint::Ground(_) => None,
+        MarkerPoint::Origin(b)
+        | MarkerPoint::Axis(b, _)
+        | MarkerPoint::Point(b, _)
+        | MarkerPoint::Node(b, _) => Some(b),
+    };
+    let mut set: Vec<usize> = body(&spec.joints[ji].b).into_iter().collect();
+    loop {
+        let before = set.len();
+        for (k, j) in spec.joints.iter().enumerate() {
+            if k == ji {
+                continue;
+            }
+            let (a, b) = (j.a.as_ref().and_then(body), body(&j.b));
+            for (x, y) in [(a, b), (b, a)] {
+                if let (Some(x), Some(y)) = (x, y) {
+                    if set.contains(&x) && !set.contains(&y) {
+                        set.push(y);
+                    }
+                }
+            }
+        }
+        if set.len() == before {
+            break;
+        }
+    }
+    set.sort_unstable();
+    set
+}
+
+/// Warnings for a Campbell diagram turning joint `ji` (0-based): each
+/// flexible body that turns with it (joined to its body, [`turning_bodies`])
+/// without geometric stiffening, whose bending frequencies then cannot
+/// rise with the speed (no centrifugal stiffening, only spin softening):
+/// located at the body's table, saying what to do (`stiffening = true`;
+/// an FE body has none, being linear elastic from `M` and `K`).
+pub fn stiffening_warnings(spec: &SceneSpec, ji: usize) -> Vec<String> {
+    use crate::runtime::spec::Stiffening;
+    let mut out = Vec::new();
+    for b in turning_bodies(spec, ji) {
+        let body = &spec.bodies[b];
+        let q = crate::runtime::spec::text::quoted(&body.name);
+        match &body.kind {
+            BodyKind::Flexible(f) if f.options.stiffening == Stiffening::Off => out.push(format!(
+                "{}: body `{q}` turns with joint {} but has no geometric stiffening, so its bending (flap and lag) frequencies cannot rise with the speed (only spin softening is modelled): set `stiffening = true` in [bodies.{q}]",
+                body.at,
+                ji + 1
+            )),
+            BodyKind::Fe(_) => out.push(format!(
+                "{}: FE body `{q}` turns with joint {} but has no geometric stiffening (it is not available from M and K alone), so its bending frequencies cannot rise with the speed: model it as a beam with `stiffening = true` to see them rise",
+                body.at,
+                ji + 1
+            )),
+            _ => {}
+        }
+    }
+    out
 }
 
 /// The Campbell diagram of the scene `spec`: for each speed `Ω` the driven
@@ -473,26 +548,13 @@ pub fn campbell(
     })
 }
 
-/// What [`campbell_with`] calls at each speed: its index, the scene built
-/// at that speed, the steady state, the modes.
-pub type EachSpeed<'a> =
-    dyn FnMut(usize, &super::Scene, &State, &[CampbellMode]) -> crate::Result<()> + 'a;
-
-/// [`campbell`], calling `each(i, scene, steady state, modes)` for the
-/// `i`-th speed (0-based) after its modes are found (e.g. to write their
-/// animations, [`super::vtk::write_linear_modes`]).
-pub fn campbell_with(
-    spec: &SceneSpec,
-    provider: &dyn KernelProvider,
-    speeds: &[f64],
-    joint: Option<usize>,
-    count: usize,
-    each: &mut EachSpeed<'_>,
-) -> crate::Result<Campbell> {
+/// The joint a Campbell diagram turns: `joint` (0-based in `[[joints]]`),
+/// which must be a revolute joint with a drive, or the first such joint.
+pub fn campbell_joint(spec: &SceneSpec, joint: Option<usize>) -> crate::Result<usize> {
     let driven = |j: &crate::runtime::spec::scene::JointSpec| {
         j.kind == JointKind::Revolute && j.drive.is_some()
     };
-    let ji = match joint {
+    Ok(match joint {
         Some(k) => {
             let j = spec.joints.get(k).ok_or_else(|| {
                 format!("--joint {}: the scene has {} joints", k + 1, spec.joints.len())
@@ -511,7 +573,26 @@ pub fn campbell_with(
         None => spec.joints.iter().position(driven).ok_or(
             "the scene has no revolute joint with a drive: a Campbell diagram turns one at constant speeds",
         )?,
-    };
+    })
+}
+
+/// What [`campbell_with`] calls at each speed: its index, the scene built
+/// at that speed, the steady state, the modes.
+pub type EachSpeed<'a> =
+    dyn FnMut(usize, &super::Scene, &State, &[CampbellMode]) -> crate::Result<()> + 'a;
+
+/// [`campbell`], calling `each(i, scene, steady state, modes)` for the
+/// `i`-th speed (0-based) after its modes are found (e.g. to write their
+/// animations, [`super::vtk::write_linear_modes`]).
+pub fn campbell_with(
+    spec: &SceneSpec,
+    provider: &dyn KernelProvider,
+    speeds: &[f64],
+    joint: Option<usize>,
+    count: usize,
+    each: &mut EachSpeed<'_>,
+) -> crate::Result<Campbell> {
+    let ji = campbell_joint(spec, joint)?;
     let j = &spec.joints[ji];
     let center = match j.a.as_ref().map(|a| a.point) {
         Some(MarkerPoint::Ground(p)) => p,
@@ -562,6 +643,7 @@ pub fn campbell_with(
         | ProfileSpec::Harmonic { start, .. } => start,
         ProfileSpec::Constant(v) => v,
     };
+    let warnings = stiffening_warnings(spec, ji);
     let mut modes = Vec::with_capacity(speeds.len());
     for (i, &w) in speeds.iter().enumerate() {
         if !w.is_finite() {
@@ -584,5 +666,6 @@ pub fn campbell_with(
         speeds: speeds.to_vec(),
         joint: ji,
         modes,
+        warnings,
     })
 }

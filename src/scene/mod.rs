@@ -11,6 +11,8 @@
 //! - [`provider`]: where flexible bodies get their kernels;
 //! - [`run`](mod@run): the run and its recorded columns;
 //! - [`linear`]: linear models (`A, B, C, D`) and Campbell diagrams;
+//! - [`statics`]: the static equilibrium under the scene's loads and its
+//!   outputs (`ffr static`);
 //! - `edit` (feature `scene-files`): scene variants by dotted keys
 //!   (`bodies.beam.params.e`), loaded with the loader's located errors;
 //! - `vtk` (feature `vtk`): ParaView time series and mode-shape animations;
@@ -27,6 +29,7 @@ pub mod load;
 pub mod model;
 pub mod provider;
 pub mod run;
+pub mod statics;
 #[cfg(feature = "vtk")]
 pub mod vtk;
 

@@ -2,6 +2,7 @@
 
 use super::model::{EnergyPart, OutputKind, Scene};
 use crate::runtime::marker::MarkerKin;
+use crate::runtime::{Assembly, Body};
 use std::ops::ControlFlow;
 
 /// The recorded outputs of a scene run.
@@ -86,16 +87,7 @@ fn run_observed(
     mut observe: impl FnMut(f64, &[f64]) -> ControlFlow<()>,
 ) -> Result<SceneRun, crate::runtime::Error> {
     let sys = &scene.system;
-    let mut kins: Vec<(MarkerKin, Option<MarkerKin>)> = scene
-        .outputs
-        .iter()
-        .map(|o| {
-            (
-                sys.marker_kin(&o.marker),
-                o.relative_to.as_ref().map(|m| sys.marker_kin(m)),
-            )
-        })
-        .collect();
+    let mut recorder = Recorder::new(scene);
     // Reserve for the whole run only up to a bound: the loader checked that
     // the recorded values fit (`super::load::MAX_RECORDED_VALUES`), and a
     // run that stops early should not have taken the memory of its end.
@@ -110,7 +102,6 @@ fn run_observed(
             .collect(),
         ..SceneRun::default()
     };
-    let mut prev_angle = vec![f64::NAN; scene.outputs.len()];
     let wants_power = scene.outputs.iter().any(|o| {
         matches!(
             o.kind,
@@ -137,13 +128,87 @@ fn run_observed(
             }
             last_power = Some((v.state.t, p));
         }
+        recorder.record(scene, v.assembly, q, qd, (work, dissipated), |i, value| {
+            out.columns[i].push(value)
+        });
+        observe(v.state.t, q)
+    });
+    out.wall = start.elapsed().as_secs_f64();
+    match res {
+        Ok(s) => {
+            out.steps = s.steps;
+            out.newton_iterations = s.newton_iterations;
+            out.jacobians = s.jacobians;
+            out.restarts = s.restarts;
+            out.splits = s.splits;
+            out.last = Some(s.last);
+        }
+        Err(e) => match e {
+            crate::runtime::Error::Diverged { .. }
+            | crate::runtime::Error::NoConvergence { .. }
+            | crate::runtime::Error::NonFinite { .. }
+            | crate::runtime::Error::Unstable { .. }
+            | crate::runtime::Error::Singular { .. }
+            | crate::runtime::Error::StepFailed { .. } => {
+                out.steps = steps;
+                out.newton_iterations = iterations;
+                out.failed = Some(e.to_string());
+            }
+            other => return Err(other),
+        },
+    }
+    Ok(out)
+}
+
+/// The evaluation of a scene's outputs at a state (a run's samples, a
+/// static state): marker workspaces, and each angle's last value so that
+/// an angle output is continuous over a run (unwrapped by whole turns; the
+/// first value in `(−π, π]`).
+pub(super) struct Recorder {
+    kins: Vec<(MarkerKin, Option<MarkerKin>)>,
+    prev_angle: Vec<f64>,
+}
+
+impl Recorder {
+    /// The workspaces of `scene`'s outputs (allocates once).
+    pub(super) fn new(scene: &Scene) -> Self {
+        let sys = &scene.system;
+        Self {
+            kins: scene
+                .outputs
+                .iter()
+                .map(|o| {
+                    (
+                        sys.marker_kin(&o.marker),
+                        o.relative_to.as_ref().map(|m| sys.marker_kin(m)),
+                    )
+                })
+                .collect(),
+            prev_angle: vec![f64::NAN; scene.outputs.len()],
+        }
+    }
+
+    /// Every output of `scene` at `(q, q̇)` through `push(i, value)`, in
+    /// order: positions, velocities, deflections and angles from the
+    /// markers, energies from `asm` at the state, the work of the applied
+    /// loads and the dissipated energy as given (`(work, dissipated)`, the
+    /// integrals so far).
+    pub(super) fn record(
+        &mut self,
+        scene: &Scene,
+        asm: &mut Assembly<'_, Box<dyn Body>>,
+        q: &[f64],
+        qd: &[f64],
+        (work, dissipated): (f64, f64),
+        mut push: impl FnMut(usize, f64),
+    ) {
         let mut energy = None;
         for (i, o) in scene.outputs.iter().enumerate() {
             let value = match &o.kind {
                 OutputKind::Energy(EnergyPart::Work) => work,
                 OutputKind::Energy(EnergyPart::Dissipated) => dissipated,
                 OutputKind::Energy(part) => {
-                    let e = *energy.get_or_insert_with(|| v.assembly.energy(q, qd));
+                    let e = *energy.get_or_insert_with(|| asm.energy(q, qd));
                     match part {
                         EnergyPart::Total => e.total(),
                         EnergyPart::Kinetic => e.kinetic,
@@ -154,7 +219,7 @@ fn run_observed(
                     }
                 }
                 kind => {
-                    let (k, rel) = &mut kins[i];
+                    let (k, rel) = &mut self.kins[i];
                     k.eval(&o.marker, q);
                     match kind {
                         OutputKind::Position(c) => k.pos[*c],
@@ -184,47 +249,21 @@ fn run_observed(
                                 }
                                 None => x.y.atan2(x.x),
                             };
-                            let p = prev_angle[i];
+                            let p = self.prev_angle[i];
                             let tau = std::f64::consts::TAU;
                             let a = if p.is_nan() {
                                 raw
                             } else {
                                 raw + tau * ((p - raw) / tau).round()
                             };
-                            prev_angle[i] = a;
+                            self.prev_angle[i] = a;
                             a
                         }
                         OutputKind::Energy(_) => unreachable!(),
                     }
                 }
             };
-            out.columns[i].push(value);
+            push(i, value);
         }
-        observe(v.state.t, q)
-    });
-    out.wall = start.elapsed().as_secs_f64();
-    match res {
-        Ok(s) => {
-            out.steps = s.steps;
-            out.newton_iterations = s.newton_iterations;
-            out.jacobians = s.jacobians;
-            out.restarts = s.restarts;
-            out.splits = s.splits;
-            out.last = Some(s.last);
-        }
-        Err(e) => match e {
-            crate::runtime::Error::Diverged { .. }
-            | crate::runtime::Error::NoConvergence { .. }
-            | crate::runtime::Error::NonFinite { .. }
-            | crate::runtime::Error::Unstable { .. }
-            | crate::runtime::Error::Singular { .. }
-            | crate::runtime::Error::StepFailed { .. } => {
-                out.steps = steps;
-                out.newton_iterations = iterations;
-                out.failed = Some(e.to_string());
-            }
-            other => return Err(other),
-        },
     }
-    Ok(out)
 }

@@ -264,10 +264,11 @@ fn print_summary(scene: &Path, m: &LinearModel) -> Result<(), Box<dyn Error>> {
 }
 
 /// The JSON of a Campbell diagram: `{speeds, modes: [[{omega, hz, zeta,
-/// label}, …] per speed]}`.
+/// label}, …] per speed], warnings: [text, …]}`.
 pub fn campbell_json(c: &Campbell) -> Value {
     json!({
         "speeds": c.speeds,
+        "warnings": c.warnings,
         "modes": c.modes.iter().map(|ms| ms.iter().map(|m| json!({
             "omega": m.omega,
             "hz": m.hz,
@@ -289,6 +290,12 @@ pub fn campbell(args: &CampbellArgs) -> Result<Campbell, Box<dyn Error>> {
         output::check_output(p, "--svg")?;
     }
     let spec = ffr::scene::load::load_spec(&args.scene)?;
+    // What the diagram may not show, once, before it is computed.
+    let ji = ffr::scene::linear::campbell_joint(&spec, args.joint.map(|j| j - 1))
+        .map_err(|e| located(&args.scene, e))?;
+    for w in ffr::scene::linear::stiffening_warnings(&spec, ji) {
+        eprintln!("warning: {w}");
+    }
     let stem = ffr::scene::vtk::scene_stem(&args.scene.display().to_string());
     let speed_name = |i: usize| {
         let w = args.speeds.len().to_string().len().max(2);

@@ -8,6 +8,7 @@ mod linearize;
 mod modes;
 mod run;
 mod spin_up;
+mod statics;
 
 pub use args::{
     BodyArgs, ExportFormat, IntegratorKind, KernelArgs, ParamArgs, ReductionKind, SceneBodyArgs,
@@ -21,6 +22,7 @@ pub use modes::{export, modes, modes_json, reducible};
 pub(crate) use run::check_finite_columns;
 pub use run::{run_scene, MAX_ECHO_CHARS};
 pub use spin_up::{spin_up, SpinUpArgs};
+pub use statics::{static_json, static_scene, StaticArgs};
 
 use crate::output;
 use clap::{Parser, Subcommand};
@@ -116,6 +118,10 @@ pub enum Command {
     /// (independent coordinates on the constraint manifold), with its
     /// eigenvalues; see docs/linear.md.
     Linearize(LinearizeArgs),
+    /// The static equilibrium under a scene's loads at t = 0 (gravity,
+    /// forces, motor torques; drives held), by Newton with load increments,
+    /// and its outputs there; see docs/static.md.
+    Static(StaticArgs),
     /// A Campbell diagram: a scene's frequencies while its driven revolute
     /// joint turns at constant speeds (steady deformed state, gyroscopic
     /// terms); see docs/linear.md.
@@ -321,6 +327,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         Some(Command::SpinUp(args)) => spin_up(&args).map(|_| ()),
         Some(Command::Linearize(args)) => linearize(&args).map(|_| ()),
         Some(Command::Campbell(args)) => campbell(&args).map(|_| ()),
+        Some(Command::Static(args)) => static_scene(&args).map(|_| ()),
         Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
         Some(Command::Sweep(args)) => crate::sweep::run(&args).map(|_| ()),
         Some(Command::Stability(args)) => crate::stability::run(&args).map(|_| ()),

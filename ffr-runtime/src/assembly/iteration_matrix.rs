@@ -2,7 +2,7 @@
 //! derivative of the residual with `∂q̈/∂q = β'`, `∂q̇/∂q = γ'`) into the
 //! bordered solver, entry by entry through each unknown's [`Slot`].
 
-use super::residual::eval_force;
+use super::residual::{eval_force, is_applied_load};
 use super::{v3, Assembly, BodyScratch, Slot};
 use crate::body::Body;
 use crate::linalg::BorderedSystem;
@@ -146,8 +146,30 @@ impl<B: Body> Assembly<'_, B> {
         gp: f64,
         r: &mut [f64],
     ) {
+        self.assemble_matrix(t, q, v, a, lam_scaled, bp, gp, 1.0 / bp, bp, r);
+    }
+
+    /// The matrix `[s (β' M + γ' C + K) + ∂(Φ_qᵀ λ̃)/∂q, Φ_qᵀ; Φ_q, 0]`
+    /// into the solver and the residual at `λ = f_λ λ̃` into `r`: the
+    /// generalized-α iteration matrix with `s = 1/β'`, `f_λ = β'`
+    /// ([`Assembly::jacobian`]), the static matrix with `s = f_λ = 1`
+    /// ([`Assembly::static_matrix`]). The products are the same for
+    /// either (the time step's arithmetic does not change).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn assemble_matrix(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        lam_scaled: &[f64],
+        bp: f64,
+        gp: f64,
+        s: f64,
+        lam_factor: f64,
+        r: &mut [f64],
+    ) {
         self.solver.clear();
-        let s = 1.0 / bp;
         for i in 0..self.sys.bodies.len() {
             if self.bodies[i].skip {
                 continue;
@@ -179,7 +201,7 @@ impl<B: Body> Assembly<'_, B> {
             for k in 0..d {
                 rdd[k] = a[o + k];
             }
-            let rg = rdd - self.sys.gravity;
+            let rg = rdd - self.gravity;
             let thd = &v[o + d..o + d + nth];
             let thdd = &a[o + d..o + d + nth];
             let mut phi_th = [[0.0; 9]; 4];
@@ -208,10 +230,14 @@ impl<B: Body> Assembly<'_, B> {
             );
         }
         // Residual from the same evaluations (forces were just computed).
-        self.residual_from_forces(t, q, v, lam_scaled, bp, r);
+        self.residual_from_forces(t, q, v, lam_scaled, lam_factor, r);
         // Force elements.
+        let load = self.load_scale;
         for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {
             eval_force(fe, fw, q, v, t, Some(gp));
+            if load != 1.0 && is_applied_load(fe) {
+                fw.eval.k.iter_mut().for_each(|x| *x *= load);
+            }
             let nl = fw.eval.q.len();
             for i in 0..nl {
                 let gi = local_index(&fw.ka, fw.kb.as_ref(), i);

@@ -20,7 +20,9 @@
 //! unknowns are), `residual`, `iteration_matrix`, `mass` (the mass system),
 //! `constraints` (velocity- and acceleration-level rows, set-up checks),
 //! `solve` (factor and solve), `energy` (monitored quantities), `linear`
-//! (the dense parts `M`, `C`, `K`, `Φ_q` for linear models),
+//! (the dense parts `M`, `C`, `K`, `Φ_q` for linear models), `statics`
+//! (the matrix with explicit coefficients `c_M M + c_C C + K` and the load
+//! factor of a load-stepped static solution),
 //! `kinematics` (markers) and `oracle` (finite-difference check of the
 //! iteration matrix).
 
@@ -34,6 +36,7 @@ mod mass;
 mod oracle;
 mod residual;
 mod solve;
+mod statics;
 
 use crate::body::{BandBuf, Body, BodyForces, BodyMass, BodyState, BodyTangent, BodyWork};
 use crate::error::{Error, Result};
@@ -124,6 +127,14 @@ pub struct Assembly<'s, B: Body> {
     /// factor, also set this class's round-off floor (a beam's elastic
     /// translations and rotations, linked by its length `L`).
     pub(crate) class_link: Vec<ClassLink>,
+    /// The gravity the equations use: the system's, times
+    /// [`Assembly::load_scale`] (equal to it unless a static solution
+    /// steps its loads).
+    gravity: Vector3<f64>,
+    /// The factor on gravity and the applied loads (point forces, constant
+    /// motor torques): 1 except in a load-stepped static solution
+    /// ([`Assembly::set_load_scale`]).
+    load_scale: f64,
 }
 
 /// A class's link (see [`Assembly::classes`]): the class whose positions,
@@ -428,6 +439,8 @@ impl<'s, B: Body> Assembly<'s, B> {
             mult_class,
             coord_class,
             class_link,
+            gravity: sys.gravity,
+            load_scale: 1.0,
         })
     }
 }

@@ -4,7 +4,7 @@
 
 use super::{v3, Assembly, ForceWork};
 use crate::body::{Body, BodyState};
-use crate::force::ForceElement;
+use crate::force::{ForceElement, TorqueLaw};
 use crate::rotation::Rotation;
 use nalgebra::Vector3;
 
@@ -23,7 +23,7 @@ impl<B: Body> Assembly<'_, B> {
         for k in 0..d {
             rdd[k] = a[o + k];
         }
-        let abar = rot.a.transpose() * (rdd - self.sys.gravity);
+        let abar = rot.a.transpose() * (rdd - self.gravity);
         let alpha = rot.omega(&a[o + d..o + d + nth]);
         let w = rot.omega(&v[o + d..o + d + nth]);
         let f0 = o + d + nth;
@@ -107,8 +107,12 @@ impl<B: Body> Assembly<'_, B> {
         r: &mut [f64],
     ) {
         let n = self.n;
+        let load = self.load_scale;
         for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {
             eval_force(fe, fw, q, v, t, None);
+            if load != 1.0 && is_applied_load(fe) {
+                fw.eval.q.iter_mut().for_each(|x| *x *= load);
+            }
             let na = fw.ka.len();
             for (i, &g) in fw.ka.idx.iter().enumerate() {
                 r[g] -= fw.eval.q[i];
@@ -162,6 +166,22 @@ impl<B: Body> Assembly<'_, B> {
         }
         self.add_forces_and_constraints(t, q, v, lam_scaled, bp, r);
     }
+}
+
+/// Whether `fe` is an applied load, which the load factor of a
+/// load-stepped static solution scales ([`Assembly::set_load_scale`]): a
+/// point force, or a torque of a constant-torque law `τ(t)` (a motor's
+/// constant torque). Springs, dampers and PD motors are part of the
+/// structure and are not scaled.
+pub(super) fn is_applied_load(fe: &ForceElement) -> bool {
+    matches!(
+        fe,
+        ForceElement::Point { .. }
+            | ForceElement::Torque {
+                law: TorqueLaw::Torque(_),
+                ..
+            }
+    )
 }
 
 pub(super) fn eval_force(

@@ -21,22 +21,28 @@ impl<B: Body> Assembly<'_, B> {
     /// The solver's failure with the unknown it stopped at named (the body
     /// and coordinate, or the constraint row), so that the message says
     /// which coordinate has no inertia or which joint is redundant.
-    fn describe_singular(&self, e: &crate::linalg::Singular) -> String {
+    pub(super) fn describe_singular(&self, e: &crate::linalg::Singular) -> String {
         use crate::linalg::Part;
         let slot = match e.part {
             Part::Block(b) => Slot::Band(b as u32, e.column as u32),
             Part::Schur => Slot::Border(e.column as u32),
             Part::Matrix => return e.to_string(),
         };
+        match self.describe_slot(slot) {
+            Some(what) => format!("{e}: {what}"),
+            None => e.to_string(),
+        }
+    }
+
+    /// The unknown in `slot`: ``coordinate `θ` of body `bar` (…)``, the
+    /// Euler-parameter normalization of a body, or a row of a joint.
+    pub(super) fn describe_slot(&self, slot: Slot) -> Option<String> {
         if let Some(c) = self.coord_slot.iter().position(|s| *s == slot) {
-            let Some(b) = self
+            let b = self
                 .sys
                 .bodies
                 .iter()
-                .find(|b| (b.offset..b.offset + b.n_coords()).contains(&c))
-            else {
-                return e.to_string();
-            };
+                .find(|b| (b.offset..b.offset + b.n_coords()).contains(&c))?;
             let k = c - b.offset;
             let name = if k < b.d {
                 ["R_x", "R_y", "R_z"][k].to_string()
@@ -54,28 +60,28 @@ impl<B: Body> Assembly<'_, B> {
                     .cloned()
                     .unwrap_or_else(|| format!("q_f[{}]", k - b.d - b.n_theta))
             };
-            return format!(
-                "{e}: coordinate `{name}` of body `{}` ({})",
+            return Some(format!(
+                "coordinate `{name}` of body `{}` ({})",
                 b.name,
                 b.body.layout().description
-            );
+            ));
         }
         if let Slot::Border(g) = slot {
             if let Some(k) = self.mult_slot.iter().position(|s| *s == g) {
                 if let Some(&(i, _)) = self.norm_rows.iter().find(|(_, row)| *row == k) {
-                    return format!(
-                        "{e}: the Euler-parameter normalization of body `{}`",
+                    return Some(format!(
+                        "the Euler-parameter normalization of body `{}`",
                         self.sys.bodies[i].name
-                    );
+                    ));
                 }
                 for (c, cw) in self.sys.constraints.iter().zip(&self.cons) {
                     if (cw.first..cw.first + c.rows.len()).contains(&k) {
-                        return format!("{e}: row {} of a {} joint", k - cw.first, c.kind);
+                        return Some(format!("row {} of a {} joint", k - cw.first, c.kind));
                     }
                 }
             }
         }
-        e.to_string()
+        None
     }
 
     /// Solve `J x = rhs` with the factored matrix: `rhs` in coordinate/row

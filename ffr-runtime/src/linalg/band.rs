@@ -144,6 +144,24 @@ impl BandMatrix {
         self.info
     }
 
+    /// The sign of `det A` (`±1`) from the last successful factorization:
+    /// the signs of `U`'s diagonal times `(−1)` per row interchange.
+    /// Panics unless factored. `O(n)`, no allocation.
+    pub fn det_sign(&self) -> f64 {
+        assert!(self.factored, "det_sign of an unfactored BandMatrix");
+        let kv = self.kl + self.ku;
+        let mut sign = 1.0;
+        for j in 0..self.n {
+            if self.ab[j * self.ldab + kv] < 0.0 {
+                sign = -sign;
+            }
+            if self.ipiv[j] != j {
+                sign = -sign;
+            }
+        }
+        sign
+    }
+
     /// `A = Π L U` in place with partial pivoting (LAPACK `dgbtf2`): at step
     /// `j` the row with the largest `|a_ij|`, `j ≤ i ≤ min(j + kl, n − 1)`,
     /// is swapped into row `j`, `l_ij = a_ij / a_jj`, and

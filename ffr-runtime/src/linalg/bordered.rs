@@ -51,6 +51,18 @@ impl Schur {
             Schur::Band(b) => b.pivot_info(),
         }
     }
+    fn det_sign(&self) -> f64 {
+        match self {
+            Schur::Dense(d) => d.det_sign(),
+            Schur::Band(b) => b.det_sign(),
+        }
+    }
+    fn get(&self, i: usize, j: usize) -> f64 {
+        match self {
+            Schur::Dense(d) => d.get(i, j),
+            Schur::Band(b) => b.get(i, j),
+        }
+    }
 }
 
 /// Shape of one band block `B_i` and its coupling to the border.
@@ -402,6 +414,12 @@ impl BorderedSystem {
         self.schur.add(i, j, v);
     }
 
+    /// `D[i, j]` before [`factor`](Self::factor) (0 outside the band of
+    /// a banded border); after it, the factors' storage.
+    pub fn d_get(&self, i: usize, j: usize) -> f64 {
+        self.schur.get(i, j)
+    }
+
     /// Whether the border is in band storage.
     pub fn banded_border(&self) -> Option<(usize, usize)> {
         match &self.schur {
@@ -516,6 +534,24 @@ impl BorderedSystem {
                 }
             }
         }
+    }
+
+    /// The sign of `det A` (`±1`) from the last successful
+    /// [`factor`](Self::factor): block elimination gives
+    /// `det A = Π_i det B_i · det S`, each sign from its LU
+    /// ([`BandMatrix::det_sign`], [`DenseLu::det_sign`]). Panics unless
+    /// factored. `O(Σ n_i + k)`, no allocation.
+    pub fn det_sign(&self) -> f64 {
+        assert_eq!(
+            self.state,
+            State::Factored,
+            "det_sign without a successful factor"
+        );
+        self.blocks
+            .iter()
+            .map(|b| b.band.det_sign())
+            .product::<f64>()
+            * self.schur.det_sign()
     }
 
     /// Pivot statistics of the Schur complement factorization.

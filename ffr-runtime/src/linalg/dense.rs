@@ -97,6 +97,24 @@ impl DenseLu {
         self.info
     }
 
+    /// The sign of `det A` (`±1`) from the last successful factorization:
+    /// the signs of `U`'s diagonal times `(−1)` per row interchange.
+    /// Panics unless factored. `O(n)`, no allocation.
+    pub fn det_sign(&self) -> f64 {
+        assert!(self.factored, "det_sign of an unfactored DenseLu");
+        let n = self.n;
+        let mut sign = 1.0;
+        for j in 0..n {
+            if self.a[j + j * n] < 0.0 {
+                sign = -sign;
+            }
+            if self.ipiv[j] != j {
+                sign = -sign;
+            }
+        }
+        sign
+    }
+
     /// `A = Π L U` in place with partial pivoting: at step `j` the row
     /// `p = argmax_{i ≥ j} |a_ij|` is swapped with row `j` (whole rows),
     /// `l_ij = a_ij / a_jj` and `a_ic ← a_ic − l_ij a_jc` for `i, c > j`.

@@ -1,0 +1,322 @@
+//! `ffr static` (issue 35): the static equilibrium under a scene's loads,
+//! against closed forms (a cantilever under gravity, a hanging pendulum),
+//! against the elastica at large deflection (Bisshopp & Drucker's
+//! cantilever with a dead tip load, `bench/elastica/`), its text, CSV and
+//! JSON, load stepping, and the errors of loads that have no equilibrium.
+
+mod common;
+
+use common::cli::{ffr, scene};
+use std::path::Path;
+
+/// Write `text` as `name` in `dir`; its path as a string.
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+/// `ffr static ARGS --json`, parsed (panics with stderr on failure).
+fn static_json(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["static"];
+    all.extend_from_slice(args);
+    all.push("--json");
+    let (ok, out, err) = ffr(&all);
+    assert!(ok, "{all:?}: {err}");
+    serde_json::from_str(&out).unwrap()
+}
+
+fn output(js: &serde_json::Value, name: &str) -> f64 {
+    js["outputs"][name]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{name} in {js}"))
+}
+
+/// A steel cantilever (2 m, clamped) under gravity `g` along −z,
+/// `elements` beam3 elements: the tip's elastic deflection in z.
+fn cantilever(elements: usize, g: f64) -> String {
+    format!(
+        r#"description = "cantilever under gravity"
+dimension = 3
+gravity = [0.0, 0.0, {g:?}]
+t_end = 1.0
+dt = 1e-3
+[bodies.beam]
+shape = "beam3"
+elements = {elements}
+reference = "clamped"
+params = {{ length = 2.0, rho = 7800.0, area = 1e-4, iy = 8.0e-12, iz = 2.0e-11, e = 2.1e11, g = 8.0e10, j = 1.5e-11 }}
+[[joints]]
+kind = "ground"
+b = "beam"
+[[outputs]]
+name = "tip_z"
+kind = "deflection"
+at = "beam@x=2.0"
+component = "z"
+[[outputs]]
+name = "elastic"
+kind = "energy"
+component = "elastic"
+"#
+    )
+}
+
+/// The cantilever under its own weight `q = ρ A g`: the tip deflection
+/// `q L⁴/(8 E I_y)` of Euler–Bernoulli theory. Cubic Hermite elements with
+/// consistent loads are exact at the nodes, so 4 elements give it to the
+/// geometric nonlinearity (`(w/L)² ≈ 1e-10` here, at `g = 1e-3`): measured
+/// below 1e-12 relative, asserted 1e-9. The elastic energy is half the work of
+/// the load, `q² L⁵/(40 E I)`, which the stiffer mesh underestimates:
+/// 1.1e-4 relative with 4 elements, 7e-6 with 8 (asserted 2e-4, 1.5e-5:
+/// the fourth power of the element length).
+#[test]
+fn cantilever_under_gravity_equals_beam_theory() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = -1e-3;
+    let p = write(dir.path(), "c.toml", &cantilever(4, g));
+    let js = static_json(&[&p]);
+    let (rho, a, e, iy, l) = (7800.0, 1e-4, 2.1e11, 8.0e-12, 2.0f64);
+    let q = rho * a * g.abs();
+    let w = -q * l.powi(4) / (8.0 * e * iy);
+    let u = q * q * l.powi(5) / (40.0 * e * iy);
+    let (tip, elastic) = (output(&js, "tip_z"), output(&js, "elastic"));
+    println!("tip {tip:.12e} m (theory {w:.12e}), elastic {elastic:.6e} J (theory {u:.6e})");
+    assert!((tip - w).abs() <= 1e-9 * w.abs(), "{tip} vs {w}");
+    assert!(elastic < u && u - elastic <= 2e-4 * u, "{elastic} vs {u}");
+    let p8 = write(dir.path(), "c8.toml", &cantilever(8, g));
+    let e8 = output(&static_json(&[&p8]), "elastic");
+    println!("8 elements: elastic {e8:.6e} J");
+    assert!(e8 < u && u - e8 <= 1.5e-5 * u, "{e8} vs {u}");
+    // The JSON's keys are the contract: exactly these three.
+    let keys: Vec<&str> = js.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+    assert_eq!(keys, ["iterations", "outputs", "steps"]);
+    let names: Vec<&str> = js["outputs"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(|k| k.as_str())
+        .collect();
+    assert_eq!(names, ["elastic", "tip_z"]);
+    assert_eq!(js["steps"], 1);
+    assert!(js["iterations"].as_u64().unwrap() >= 1);
+}
+
+/// The text, the CSV row and `--steps K`: the text names the scene and
+/// prints each output with its unit; the CSV is `t` and the outputs, the
+/// JSON's numbers bit for bit; `--steps 5` takes 5 increments to the same
+/// state (to 1e-12 relative: Newton's tolerance).
+#[test]
+fn text_csv_and_load_steps() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(dir.path(), "c.toml", &cantilever(8, -0.01));
+    let csv = dir.path().join("out.csv");
+    let (ok, out, err) = ffr(&["static", &p, "--csv", csv.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("(cantilever under gravity): static equilibrium at t = 0"),
+        "{out}"
+    );
+    assert!(out.contains("  tip_z: ") && out.contains(" m\n"), "{out}");
+    assert!(out.contains("  elastic: ") && out.contains(" J\n"), "{out}");
+    assert!(out.contains("1 load increment, "), "{out}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 2, "{text}");
+    assert_eq!(lines[0], "t,tip_z,elastic");
+    let row: Vec<f64> = lines[1].split(',').map(|x| x.parse().unwrap()).collect();
+    // The JSON's numbers as written (serde_json's default parsing may be
+    // one ulp off; `str::parse` is exact).
+    let (ok, json, err) = ffr(&["static", &p, "--json"]);
+    assert!(ok, "{err}");
+    let raw = |name: &str| -> f64 {
+        let key = format!("\"{name}\":");
+        let at = json.find(&key).unwrap() + key.len();
+        let end = json[at..].find([',', '}']).unwrap() + at;
+        json[at..end].parse().unwrap()
+    };
+    assert_eq!(row, [0.0, raw("tip_z"), raw("elastic")]);
+    let js: serde_json::Value = serde_json::from_str(&json).unwrap();
+
+    let js5 = static_json(&[&p, "--steps", "5"]);
+    assert_eq!(js5["steps"], 5);
+    for name in ["tip_z", "elastic"] {
+        let (a, b) = (output(&js, name), output(&js5, name));
+        assert!((a - b).abs() <= 1e-12 * a.abs(), "{name}: {a} vs {b}");
+    }
+    assert!(js5["iterations"].as_u64() > js["iterations"].as_u64());
+}
+
+/// The flexible pendulum released horizontal (`scenes/pendulum.toml`)
+/// hangs straight down at its static state: angle −π/2, tip at
+/// `(0, −L(1 + ε))` with the small stretch `ε` of its weight, no bending,
+/// nothing kinetic; the energy is the gravity energy of the hanging bar,
+/// `−m g L/2` less the stretch's.
+#[test]
+fn pendulum_hangs_straight_down() {
+    let js = static_json(&[&scene("pendulum.toml")]);
+    let angle = output(&js, "angle");
+    assert!(
+        (angle + std::f64::consts::FRAC_PI_2).abs() < 1e-9,
+        "{angle}"
+    );
+    let (x, y) = (output(&js, "tip_x"), output(&js, "tip_y"));
+    // Stretch at the tip: ∫ ρ g (L − s)/E ds = ρ g L²/(2E).
+    let stretch = 2700.0 * 9.81 / (2.0 * 7.0e10);
+    assert!(x.abs() < 1e-9, "{x}");
+    assert!((y + 1.0 + stretch).abs() < 1e-3 * stretch, "{y}");
+    assert_eq!(output(&js, "kinetic"), 0.0);
+    assert!(output(&js, "tip_deflection").abs() < 1e-12);
+    let mgl2 = 2700.0 * 1e-4 * 9.81 * 0.5;
+    let gravity = output(&js, "gravity");
+    assert!((gravity + mgl2).abs() < 1e-5 * mgl2, "{gravity}");
+}
+
+/// Loads without an equilibrium exit non-zero with a message that says
+/// so and where: a free body (a mechanism), the pendulum without gravity
+/// (nothing holds its swing: the coordinate named), a torque above the
+/// pendulum's weight (no equilibrium on the load path). `--steps 0` and a
+/// CSV onto the scene file are refused before anything is solved.
+#[test]
+fn no_equilibrium_is_an_error_that_says_so() {
+    let (ok, out, err) = ffr(&["static", &scene("free_floating.toml")]);
+    assert!(!ok && out.is_empty(), "{out}");
+    assert!(
+        err.contains("free_floating.toml: no static equilibrium found at t = 0 s")
+            && err.contains("mechanism"),
+        "{err}"
+    );
+
+    let dir = tempfile::tempdir().unwrap();
+    let base = include_str!("../../scenes/pendulum.toml");
+    let unloaded = base.replace("gravity = [0.0, -9.81]", "gravity = [0.0, 0.0]");
+    assert_ne!(unloaded, base);
+    let p = write(dir.path(), "unloaded.toml", &unloaded);
+    let (ok, _, err) = ffr(&["static", &p, "--json"]);
+    assert!(!ok, "{err}");
+    assert!(
+        err.contains("mechanism") && err.contains("coordinate `θ` of body `bar`"),
+        "{err}"
+    );
+
+    let torque = format!(
+        "{base}\n[[forces]]\nkind = \"torque\"\na = \"ground@[0.0, 0.0]\"\nb = \"bar\"\ntorque = 100.0\n"
+    );
+    let p = write(dir.path(), "torque.toml", &torque);
+    let (ok, _, err) = ffr(&["static", &p]);
+    assert!(!ok, "{err}");
+    assert!(err.contains("no static equilibrium found"), "{err}");
+    let (ok, _, err) = ffr(&["static", &p, "--steps", "3"]);
+    assert!(!ok && err.contains("load increment"), "{err}");
+
+    let p = scene("pendulum.toml");
+    let (ok, _, err) = ffr(&["static", &p, "--steps", "0"]);
+    assert!(
+        !ok && err.contains("--steps") && err.contains("0 load increments"),
+        "{err}"
+    );
+    let (ok, _, err) = ffr(&["static", &p, "--steps", "2.5"]);
+    assert!(!ok && err.contains("`2.5` is not a whole number"), "{err}");
+    let copy = write(dir.path(), "copy.toml", base);
+    let (ok, _, err) = ffr(&["static", &copy, "--csv", &copy]);
+    assert!(
+        !ok && err.contains("--csv would overwrite the scene file"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&copy).unwrap(), base);
+}
+
+/// The elastica's tip displacements over L by α = PL²/EI, from
+/// `bench/elastica/reference.csv` (scipy shooting, checked there against
+/// Bisshopp & Drucker's table as Mattiasson 1981 gives it).
+fn elastica() -> Vec<(f64, f64, f64)> {
+    include_str!("../../bench/elastica/reference.csv")
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+            (v[0], v[1], v[2])
+        })
+        .collect()
+}
+
+/// The cantilever of `bench/elastica/convergence.py` (stiffening on): N
+/// one-element bodies of length 1/N joined by `fixed` joints, the dead tip
+/// load α EI/L² along −y (planar) or −z (spatial: out of the beam's x–y
+/// plane, about its weak axis).
+fn chain(n: usize, alpha: f64, dim: usize) -> String {
+    let (e, a, i) = (1e9, 1e-4, 1e-10);
+    let l = 1.0 / n as f64;
+    let mut s = format!("dimension = {dim}\nt_end = 1.0\ndt = 1e-3\n");
+    for k in 1..=n {
+        let x0 = (k - 1) as f64 * l;
+        s += &format!(
+            "[bodies.b{k}]\nshape = \"beam{dim}\"\nelements = 1\nreference = \"clamped\"\nstiffening = true\n"
+        );
+        if dim == 2 {
+            s += &format!("params = {{ length = {l:?}, rho = 1000.0, area = {a:?}, iz = {i:?}, e = {e:?} }}\nposition = [{x0:?}, 0.0]\n");
+        } else {
+            s += &format!(
+                "params = {{ length = {l:?}, rho = 1000.0, area = {a:?}, iy = {i:?}, iz = {:?}, e = {e:?}, g = {:?}, j = {:?} }}\nposition = [{x0:?}, 0.0, 0.0]\n",
+                2.0 * i,
+                e / 2.6,
+                2.0 * i
+            );
+        }
+    }
+    s += "[[joints]]\nkind = \"ground\"\nb = \"b1\"\n";
+    for k in 1..n {
+        s += &format!(
+            "[[joints]]\nkind = \"fixed\"\na = \"b{k}@x={l:?}\"\nb = \"b{}@x=0.0\"\n",
+            k + 1
+        );
+    }
+    let p = alpha * e * i;
+    let force = if dim == 2 {
+        format!("[0.0, {:?}]", -p)
+    } else {
+        format!("[0.0, 0.0, {:?}]", -p)
+    };
+    s += &format!("[[forces]]\nkind = \"point\"\nat = \"b{n}@x={l:?}\"\nforce = {force}\n");
+    for c in ["x", "y", "z"].iter().take(dim) {
+        s += &format!(
+            "[[outputs]]\nname = \"tip_{c}\"\nkind = \"position\"\nat = \"b{n}@x={l:?}\"\ncomponent = \"{c}\"\n"
+        );
+    }
+    s
+}
+
+/// Bisshopp & Drucker's cantilever at α = 1, 2, 5, 10 (tip rotation up to
+/// 1.43 rad) as chains of N = 4, 8, 16 bodies, planar and spatial: the
+/// error of the tip displacement falls with N at a rate of at least 3 from
+/// 8 to 16 bodies (measured 3.6–3.8; bench/elastica/convergence.csv) and
+/// is within 1e-3 L at N = 16 (measured at most 2.3e-4 L, at α = 10).
+#[test]
+fn elastica_chain_converges_to_bisshopp_drucker() {
+    let dir = tempfile::tempdir().unwrap();
+    for dim in [2, 3] {
+        for (alpha, ru, rv) in elastica() {
+            let mut errs = Vec::new();
+            for n in [4, 8, 16] {
+                let p = write(
+                    dir.path(),
+                    &format!("c{dim}_{n}.toml"),
+                    &chain(n, alpha, dim),
+                );
+                let js = static_json(&[&p]);
+                let u = output(&js, "tip_x") - 1.0;
+                let v = output(&js, if dim == 2 { "tip_y" } else { "tip_z" });
+                if dim == 3 {
+                    assert!(output(&js, "tip_y").abs() < 1e-12, "{js}");
+                }
+                let err = (u - ru).abs().max((v - rv).abs());
+                println!("dim {dim} alpha {alpha} N {n}: u/L {u:.6} v/L {v:.6}, error {err:.3e}");
+                errs.push(err);
+            }
+            assert!(errs[0] > errs[1] && errs[1] > errs[2], "{errs:?}");
+            let rate = (errs[1] / errs[2]).log2();
+            assert!(rate >= 3.0, "alpha {alpha}: rate {rate}");
+            assert!(errs[2] < 1e-3, "alpha {alpha}: {errs:?}");
+        }
+    }
+}
