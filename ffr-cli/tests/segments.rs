@@ -4,7 +4,8 @@
 //! - `segments = 1` is the body as before, bit for bit, on every shipped
 //!   scene with a beam;
 //! - in the linear regime a segmented body is the single body: the
-//!   linearized models' eigenvalues and static gains agree to round-off;
+//!   linearized models' frequency responses (static gain included) agree
+//!   to round-off;
 //! - markers `NAME@x=s` reach every point of the body, and deflections on
 //!   outboard segments are measured in the root frame;
 //! - at large deflection the error against a geometrically exact reference
@@ -15,6 +16,7 @@
 //! - bad `segments` are located errors.
 
 use ffr::codegen::scene::resolve_str;
+use ffr::runtime::nalgebra::{Complex, DMatrix};
 use ffr::scene::linear::{linearize_scene, At};
 use ffr::scene::{self, DefaultKernels, Scene, SceneRun};
 use std::path::PathBuf;
@@ -105,8 +107,8 @@ fn one_segment_is_the_body_bit_for_bit() {
 
 /// A spatial cantilever (beam3, 16 elements, with fourth-order stiffening,
 /// no gravity) with a tip force input: linearized at rest, 1, 2, 4 and 8
-/// segments have the single body's eigenvalues and static gain to
-/// round-off. The linear model of the chain is the beam's finite-element
+/// segments have the single body's frequency response (static gain
+/// included) to round-off. The linear model of the chain is the beam's finite-element
 /// model: each cut joint fixes the outboard frame to the end section to
 /// first order, which is exact.
 #[test]
@@ -157,47 +159,51 @@ component = "y"
         let inputs = ["force1".to_string()];
         linearize_scene(&spec, &DefaultKernels, At::Time(0.0), Some(&inputs), None).unwrap()
     };
-    let spectrum = |m: &ffr::runtime::linear::LinearModel| {
-        let mut w: Vec<f64> =
-            m.a.clone()
-                .complex_eigenvalues()
-                .iter()
-                .map(|z| z.im.abs())
-                .collect();
-        w.sort_by(f64::total_cmp);
-        w
+    // The frequency response G(iω) = C (iω I − A)⁻¹ B + D of the tip and
+    // mid deflections to the tip force: ω = 0 is the static gain (the
+    // stiffness), the others weigh in the mass (between the body's modes,
+    // whose lowest is at 16 rad/s).
+    let response = |m: &ffr::runtime::linear::LinearModel, w: f64| {
+        let n = m.a.nrows();
+        let z = DMatrix::<Complex<f64>>::from_fn(n, n, |i, j| {
+            Complex::new(-m.a[(i, j)], if i == j { w } else { 0.0 })
+        });
+        let b = m.b.map(|x| Complex::new(x, 0.0));
+        let x = z.lu().solve(&b).unwrap();
+        let g = m.d.map(|x| Complex::new(x, 0.0)) + m.c.map(|x| Complex::new(x, 0.0)) * x;
+        g
     };
-    // The static gain −C A⁻¹ B + D of the tip and mid deflections.
-    let gain = |m: &ffr::runtime::linear::LinearModel| {
-        let x = m.a.clone().lu().solve(&m.b).unwrap();
-        &m.d - &m.c * x
-    };
+    let omegas = [0.0, 5.0, 100.0, 1000.0, 20000.0];
     let one = model(1);
-    let (w1, g1) = (spectrum(&one), gain(&one));
+    let g1: Vec<_> = omegas.iter().map(|&w| response(&one, w)).collect();
     // The static deflection under the unit tip force is the beam's.
-    assert!(g1[(0, 0)] > 1e-3 && g1[(1, 0)] > 1e-3, "{g1}");
+    assert!(
+        g1[0][(0, 0)].re > 1e-3 && g1[0][(1, 0)].re > 1e-3,
+        "{}",
+        g1[0]
+    );
+    let n_states = one.a.nrows();
     for n in [2, 4, 8] {
         let m = model(n);
-        let (w, g) = (spectrum(&m), gain(&m));
-        // More coordinates (the segments' frames), the same modes: the
+        // More coordinates (the segments' frames), the same states: the
         // frames' coordinates are fixed by the cuts and drop out of the
-        // independent set, so the spectra have equal length.
-        assert_eq!(w.len(), w1.len(), "{n} segments");
-        let top = w1.last().unwrap();
-        let dw = w
-            .iter()
-            .zip(&w1)
-            .map(|(a, b)| (a - b).abs() / b.max(1e-3 * top))
-            .fold(0.0, f64::max);
-        assert!(
-            dw < 1e-9,
-            "{n} segments: eigenvalues differ by {dw:e} (relative)"
-        );
-        let dg = (&g - &g1).amax() / g1.amax();
-        assert!(
-            dg < 1e-10,
-            "{n} segments: static gains differ by {dg:e}: {g} against {g1}"
-        );
+        // independent set.
+        assert_eq!(m.a.nrows(), n_states, "{n} segments");
+        for (&w, g1) in omegas.iter().zip(&g1) {
+            let g = response(&m, w);
+            let d = (&g - g1).iter().map(|z| z.norm()).fold(0.0, f64::max)
+                / g1.iter().map(|z| z.norm()).fold(0.0, f64::max);
+            println!("{n} segments, ω = {w}: |ΔG|/|G| = {d:.2e}");
+            // Round-off of the unscaled state-space solve (A's states mix
+            // metres, radians and their rates; ‖A‖ ≈ ω_max² ≈ 1.4e10):
+            // measured at most 2.2e-8 here, not growing with the segments
+            // (2: 2.2e-8, 4: 1.2e-8, 8: 1.8e-8). A wrong cut kinematics
+            // differs at first order, by O(1).
+            assert!(
+                d < 1e-7,
+                "{n} segments, ω = {w}: responses differ by {d:e}: {g} against {g1}"
+            );
+        }
     }
 }
 
@@ -264,8 +270,9 @@ fn error_against(r: &SceneRun, name: &str, reference: &str, column_ref: &str) ->
 
 /// The planar Kane–Ryan–Banerjee spin-up at 10 rad/s (16 beam2 elements,
 /// dt 2e-3): the tip's transverse deflection against the geometrically
-/// exact reference (`bench/reference/spin_up_omega10.csv`) falls with the
-/// segments, by more than 4× per doubling from 2 to 8.
+/// exact reference (`bench/reference/spin_up_omega10.csv`) at least halves
+/// with every doubling of the segments, and 8 segments reach 1e-4 of the
+/// peak (issue 35's goal for `spin-up-10`; one body: 1.5e-3).
 #[test]
 fn the_spin_up_converges_with_the_segments() {
     let base = read("spin_up.toml")
@@ -283,11 +290,11 @@ fn the_spin_up_converges_with_the_segments() {
             error_against(&r, "tip_transverse", reference, "tip_transverse")
         })
         .collect();
-    println!("errors by segments 1, 2, 4, 8: {errors:.3e?}");
-    for w in errors[1..].windows(2) {
-        assert!(w[1] < w[0] / 4.0, "{errors:e?}");
+    println!("errors by segments 1, 2, 4, 8: {errors:?}");
+    for w in errors.windows(2) {
+        assert!(w[1] < w[0] / 2.0, "{errors:?}");
     }
-    assert!(errors[3] < 1e-3, "{errors:e?}");
+    assert!(errors[3] < 1e-4, "{errors:?}");
 }
 
 /// A flexible pendulum of 4 segments (8 beam2 elements) released
@@ -300,12 +307,14 @@ fn a_segmented_pendulum_conserves_energy_to_second_order() {
         .replace("e = 7.0e10", "e = 7.0e8");
     let drift = |dt: &str| {
         let text = format!(
-            "{}\n[[outputs]]\nname = \"energy\"\nkind = \"energy\"\ncomponent = \"total\"\n\n[[outputs]]\nname = \"kinetic\"\nkind = \"energy\"\ncomponent = \"kinetic\"\n",
+            "{}\n[[outputs]]\nname = \"e_total\"\nkind = \"energy\"\ncomponent = \"total\"\n\n[[outputs]]\nname = \"e_kinetic\"\nkind = \"energy\"\ncomponent = \"kinetic\"\n",
             base.replace("dt = 1e-3", &format!("dt = {dt}"))
         );
         let r = run(&text);
-        let e = column(&r, "energy");
-        let scale = column(&r, "kinetic").iter().fold(0.0f64, |m, v| m.max(*v));
+        let e = column(&r, "e_total");
+        let scale = column(&r, "e_kinetic")
+            .iter()
+            .fold(0.0f64, |m, v| m.max(*v));
         e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max) / scale
     };
     let (d1, d2) = (drift("2e-3"), drift("1e-3"));
@@ -331,8 +340,9 @@ fn bad_segments_are_located_errors() {
         ),
         ("5", "`segments` = 5 is more than the body's 4 elements"),
         ("3", "`segments` = 3 does not divide the body's 4 elements"),
-        ("2.5", "segments"),
-        ("\"two\"", "segments"),
+        // Not an integer: the reader's message, at the value.
+        ("2.5", "invalid type: floating point `2.5`, expected i64"),
+        ("\"two\"", "invalid type: string \"two\", expected i64"),
     ] {
         let text = base.replace(
             "elements = 4\n",

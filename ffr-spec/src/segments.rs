@@ -62,8 +62,8 @@ pub fn check_segments(segments: i64, elements: usize) -> Result<usize, SegmentEr
 
 /// The divisors of `e` next to `n` (for a message).
 fn divisors_near(e: usize, n: usize) -> String {
-    let below = (1..n).rev().find(|d| e % d == 0);
-    let above = (n + 1..=e).find(|d| e % d == 0);
+    let below = (1..n).rev().find(|d| e.is_multiple_of(*d));
+    let above = (n + 1..=e).find(|d| e.is_multiple_of(*d));
     match (below, above) {
         (Some(b), Some(a)) => format!("{b} or {a}"),
         (Some(b), None) => b.to_string(),
