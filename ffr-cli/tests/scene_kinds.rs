@@ -57,9 +57,11 @@ integrator = { kind = "generalized-alpha", rho_inf = 0.0 }
 /// point forces: a global force `(F_x, F_y)` gives the closed forms
 /// `u_x = F_x L/(EA)`, `u_y = F_y L³/(3EI)` (Hermite cubics are exact for
 /// end loads); a follower force `F` along the tip section's y axis turns
-/// with the section, whose axes are `c + ψ × c` (ψ = tip slope), so in the
-/// body frame it is `F (−ψ, 1)`: `u_y = F L³/(3EI)`, `ψ = F L²/(2EI)`,
-/// `u_x = −ψ F L/(EA)`, and the tip marker's angle output is `atan ψ`.
+/// with the section, whose exact rotation turns the x axis onto the
+/// tangent `(√(1 − ψ²), ψ)` (ψ = tip slope `v'`), so in the body frame it
+/// is `F (−ψ, √(1 − ψ²))`. The linear beam under it: `ψ = a √(1 − ψ²)`,
+/// `a = F L²/(2EI)`, so `ψ = a/√(1 + a²)`; `u_y = F √(1 − ψ²) L³/(3EI)`,
+/// `u_x = −ψ F L/(EA)`, and the tip marker's angle output is `asin ψ`.
 /// Measured: every value to ≤ 2.7e-15 relative.
 #[test]
 fn static_cantilevers_under_global_and_follower_tip_forces() {
@@ -137,12 +139,14 @@ component = "y"
     let s = load(&text);
     let r = run(&s);
     let (ea, ei, l, f) = (E * AREA, E * IZ, 1.0f64, 5.0);
-    let psi = f * l * l / (2.0 * ei);
+    let a = f * l * l / (2.0 * ei);
+    let psi = a / (1.0 + a * a).sqrt();
+    let c = (1.0 - psi * psi).sqrt();
     let cases = [
         ("gx", 1000.0 * l / ea),
         ("gy", -f * l.powi(3) / (3.0 * ei)),
-        ("fy", f * l.powi(3) / (3.0 * ei)),
-        ("f_slope", psi.atan()),
+        ("fy", f * c * l.powi(3) / (3.0 * ei)),
+        ("f_slope", psi.asin()),
         ("fx", -psi * f * l / ea),
         ("g_tip_y", -f * l.powi(3) / (3.0 * ei)),
     ];

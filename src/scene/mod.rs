@@ -23,6 +23,7 @@ pub mod build;
 pub mod edit;
 #[cfg(feature = "scene-files")]
 pub mod emit;
+pub mod frames;
 pub mod linear;
 #[cfg(feature = "scene-files")]
 pub mod load;

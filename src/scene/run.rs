@@ -31,6 +31,13 @@ pub struct SceneRun {
     /// The final state (coordinates, velocities, accelerations, multipliers)
     /// of a run that reached its end, for checks beyond the output columns.
     pub last: Option<crate::runtime::State>,
+    /// The largest elastic section rotation of each flexible body over the
+    /// run (of a run that reached its end; [`super::frames`]).
+    pub rotations: Vec<super::frames::BodyRotation>,
+    /// Warnings about a valid result outside the model's accuracy: a body
+    /// that turned past what one floating frame describes
+    /// ([`super::frames::warnings`]).
+    pub warnings: Vec<String>,
 }
 
 /// Options of [`run_with`] beyond recording the outputs.
@@ -142,6 +149,8 @@ fn run_observed(
             out.restarts = s.restarts;
             out.splits = s.splits;
             out.last = Some(s.last);
+            out.rotations = super::frames::body_rotations(scene, &s.rotations);
+            out.warnings = super::frames::warnings(scene, &out.rotations);
         }
         Err(e) => match e {
             crate::runtime::Error::Diverged { .. }

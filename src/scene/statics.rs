@@ -30,6 +30,11 @@ pub struct SceneStatic {
     pub iterations: usize,
     /// The state (`t = 0`, `q̇ = q̈ = 0`, the multipliers: the reactions).
     pub state: State,
+    /// The largest elastic section rotation of each flexible body there.
+    pub rotations: Vec<super::frames::BodyRotation>,
+    /// Warnings about a valid result outside the model's accuracy
+    /// ([`super::frames::warnings`]).
+    pub warnings: Vec<String>,
 }
 
 /// The static equilibrium of `scene` under its loads at `t = 0`, from its
@@ -57,11 +62,16 @@ pub fn solve(scene: &Scene, options: &StaticOptions) -> crate::Result<SceneStati
         )
         .into());
     }
+    let raw = crate::runtime::monitor::elastic_rotations(sys, 0.0, &state.q)?;
+    let rotations = super::frames::body_rotations(scene, &raw);
+    let warnings = super::frames::warnings(scene, &rotations);
     Ok(SceneStatic {
         names,
         values,
         steps,
         iterations,
         state,
+        rotations,
+        warnings,
     })
 }

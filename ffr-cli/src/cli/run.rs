@@ -116,6 +116,23 @@ pub fn run_scene(
         r.wall,
         cpu
     )?;
+    for b in &r.rotations {
+        crate::outln!(
+            "  elastic rotation of `{}`: at most {:.3} rad (t = {:.4} s, x = {:.4} m{})",
+            text(&b.body, MAX_ECHO_CHARS),
+            b.angle,
+            b.t,
+            b.x,
+            if b.segment.1 > 1 {
+                format!(", segment {} of {}", b.segment.0, b.segment.1)
+            } else {
+                String::new()
+            }
+        )?;
+    }
+    for w in &r.warnings {
+        eprintln!("warning: {}", text(w, usize::MAX));
+    }
     if let Some((rf, matched)) = &reference {
         crate::outln!(
             "reference {} (t from {} to {} s): max |run − reference| at the run's times in that span, the reference interpolated linearly:",

@@ -47,7 +47,8 @@ fn parse_steps(s: &str) -> Result<usize, String> {
 }
 
 /// The JSON of a static solution: `{"outputs": {NAME: value, …}, "steps":
-/// K, "iterations": n}`.
+/// K, "iterations": n, "warnings": [TEXT, …]}` (warnings: a body turned
+/// past what one floating frame describes).
 pub fn static_json(s: &SceneStatic) -> Value {
     let mut outputs = Map::new();
     for (n, v) in s.names.iter().zip(&s.values) {
@@ -57,6 +58,7 @@ pub fn static_json(s: &SceneStatic) -> Value {
         "outputs": Value::Object(outputs),
         "steps": s.steps,
         "iterations": s.iterations,
+        "warnings": s.warnings,
     })
 }
 
@@ -70,6 +72,9 @@ pub fn static_scene(args: &StaticArgs) -> Result<SceneStatic, Box<dyn Error>> {
     let scene = ffr::scene::load(&args.scene)?;
     let options = StaticOptions { steps: args.steps };
     let s = ffr::scene::statics::solve(&scene, &options).map_err(|e| located(&args.scene, e))?;
+    for w in &s.warnings {
+        eprintln!("warning: {w}");
+    }
     if let Some(p) = &args.csv {
         let names: Vec<&str> = s.names.iter().map(String::as_str).collect();
         let cols: Vec<&[f64]> = s.values.iter().map(std::slice::from_ref).collect();
