@@ -170,8 +170,7 @@ component = "y"
         });
         let b = m.b.map(|x| Complex::new(x, 0.0));
         let x = z.lu().solve(&b).unwrap();
-        let g = m.d.map(|x| Complex::new(x, 0.0)) + m.c.map(|x| Complex::new(x, 0.0)) * x;
-        g
+        m.d.map(|x| Complex::new(x, 0.0)) + m.c.map(|x| Complex::new(x, 0.0)) * x
     };
     let omegas = [0.0, 5.0, 100.0, 1000.0, 20000.0];
     let one = model(1);
