@@ -88,7 +88,8 @@ fn cantilever_under_gravity_equals_beam_theory() {
     let e8 = output(&static_json(&[&p8]), "elastic");
     println!("8 elements: elastic {e8:.6e} J");
     assert!(e8 < u && u - e8 <= 1.5e-5 * u, "{e8} vs {u}");
-    // The JSON's keys are the contract: exactly these three.
+    // The JSON's keys are the contract: exactly these three (`warnings`
+    // joins them only when a body turned past one frame's accuracy).
     let keys: Vec<&str> = js.as_object().unwrap().keys().map(|k| k.as_str()).collect();
     assert_eq!(keys, ["iterations", "outputs", "steps"]);
     let names: Vec<&str> = js["outputs"]
@@ -318,5 +319,95 @@ fn elastica_chain_converges_to_bisshopp_drucker() {
             assert!(rate >= 3.0, "alpha {alpha}: rate {rate}");
             assert!(errs[2] < 1e-3, "alpha {alpha}: {errs:?}");
         }
+    }
+}
+
+/// The same cantilever as one body of `n` elements run as `segments`
+/// segments (`segments = N`, issue 35).
+fn segmented(n: usize, segments: usize, alpha: f64, dim: usize) -> String {
+    let (e, a, i) = (1e9, 1e-4, 1e-10);
+    let mut s = format!(
+        "dimension = {dim}\nt_end = 1.0\ndt = 1e-3\n[bodies.b]\nshape = \"beam{dim}\"\nelements = {n}\nsegments = {segments}\nreference = \"clamped\"\nstiffening = true\n"
+    );
+    if dim == 2 {
+        s += &format!("params = {{ length = 1.0, rho = 1000.0, area = {a:?}, iz = {i:?}, e = {e:?} }}\nposition = [0.0, 0.0]\n");
+    } else {
+        s += &format!(
+            "params = {{ length = 1.0, rho = 1000.0, area = {a:?}, iy = {i:?}, iz = {:?}, e = {e:?}, g = {:?}, j = {:?} }}\nposition = [0.0, 0.0, 0.0]\n",
+            2.0 * i,
+            e / 2.6,
+            2.0 * i
+        );
+    }
+    s += "[[joints]]\nkind = \"ground\"\nb = \"b\"\n";
+    let p = alpha * e * i;
+    let force = if dim == 2 {
+        format!("[0.0, {:?}]", -p)
+    } else {
+        format!("[0.0, 0.0, {:?}]", -p)
+    };
+    s += &format!("[[forces]]\nkind = \"point\"\nat = \"b@x=1.0\"\nforce = {force}\n");
+    for c in ["x", "y", "z"].iter().take(dim) {
+        s += &format!(
+            "[[outputs]]\nname = \"tip_{c}\"\nkind = \"position\"\nat = \"b@x=1.0\"\ncomponent = \"{c}\"\n"
+        );
+    }
+    s
+}
+
+/// `segments = 16` on a body of 16 elements is the hand-made chain of 16
+/// one-element bodies with `fixed` joints (the same equations, numbered
+/// differently: the tip agrees to the solver's tolerance, 1e-9 L), planar
+/// and spatial, at α = 10; the body on one frame is far off and `ffr static
+/// --json` carries the single-frame warning (only then: the chain's JSON
+/// has the three keys).
+#[test]
+fn segments_are_the_hand_made_chain() {
+    let dir = tempfile::tempdir().unwrap();
+    let (alpha, ru, rv) = *elastica().last().unwrap();
+    assert_eq!(alpha, 10.0);
+    for dim in [2, 3] {
+        let side = if dim == 2 { "tip_y" } else { "tip_z" };
+        let tip = |js: &serde_json::Value| (output(js, "tip_x"), output(js, side));
+        let chain_js = static_json(&[&write(dir.path(), "chain.toml", &chain(16, alpha, dim))]);
+        let seg_js = static_json(&[&write(
+            dir.path(),
+            "seg.toml",
+            &segmented(16, 16, alpha, dim),
+        )]);
+        let (c, s) = (tip(&chain_js), tip(&seg_js));
+        let d = (c.0 - s.0).abs().max((c.1 - s.1).abs());
+        println!("dim {dim}: chain {c:?}, segments {s:?}: {d:.2e}");
+        assert!(d < 1e-9, "dim {dim}: {c:?} against {s:?}");
+        assert!((s.0 - 1.0 - ru).abs().max((s.1 - rv).abs()) < 1e-3, "{s:?}");
+        let keys: Vec<&str> = seg_js
+            .as_object()
+            .unwrap()
+            .keys()
+            .map(|k| k.as_str())
+            .collect();
+        assert_eq!(keys, ["iterations", "outputs", "steps"], "{seg_js}");
+        // One frame: the stiffening model alone, far from the elastica, and
+        // warned about.
+        let one = static_json(&[&write(
+            dir.path(),
+            "one.toml",
+            &segmented(16, 1, alpha, dim),
+        )]);
+        let o = tip(&one);
+        let err = (o.0 - 1.0 - ru).abs().max((o.1 - rv).abs());
+        println!(
+            "dim {dim}: one frame {o:?}, error {err:.3e}: {}",
+            one["warnings"]
+        );
+        assert!(err > 0.05, "{err}");
+        let w = one["warnings"].as_array().expect("warnings");
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].as_str()
+                .unwrap()
+                .contains("body `b`: elastic rotation"),
+            "{w:?}"
+        );
     }
 }

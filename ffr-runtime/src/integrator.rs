@@ -184,10 +184,12 @@ struct Work {
     /// Position scale of each class's round-off floor (`class_qmax` plus
     /// its linked class's, converted by the body length).
     class_qfloor: Vec<f64>,
-    class_link: Vec<Option<(u32, f64)>>,
+    class_link: Vec<crate::assembly::ClassLink>,
     /// Classes `0..coord_classes` are coordinates', the rest multipliers'.
     coord_classes: usize,
     prev_a: Vec<f64>,
+    /// The multipliers of the step before the last (their predictor).
+    prev_lam: Vec<f64>,
     prev_h: f64,
     coord_class: Vec<u32>,
     mult_class: Vec<u32>,
@@ -222,6 +224,7 @@ impl Work {
             class_link: links.to_vec(),
             coord_classes: cc.iter().map(|&k| k as usize + 1).max().unwrap_or(0),
             prev_a: vec![0.0; n],
+            prev_lam: vec![0.0; m],
             prev_h: 0.0,
             coord_class: cc.to_vec(),
             mult_class: mc.to_vec(),
@@ -608,8 +611,16 @@ fn ga_step<B: Body>(
         w.a[c] = qdd;
     }
     asm.apply_prescribed(t1, &mut w.q, &mut w.v, &mut w.a);
+    // The multipliers likewise: extrapolated from the last two steps (as
+    // q̈, an acceleration-level unknown), or the last step's.
     for k in 0..m {
-        w.lam[k] = s.lambda[k] / bp;
+        let lam = match predictor {
+            Predictor::Extrapolate if w.prev_h > 0.0 => {
+                s.lambda[k] + ratio * (s.lambda[k] - w.prev_lam[k])
+            }
+            _ => s.lambda[k],
+        };
+        w.lam[k] = lam / bp;
     }
     if w.have_jac && (w.jac_h - h).abs() > 1e-12 * h {
         w.have_jac = false;
@@ -692,8 +703,7 @@ fn ga_step<B: Body>(
             w.class_max[cl] = w.class_max[cl].max((w.lam[k] * bp).abs());
         }
         for (k, link) in w.class_link.iter().enumerate() {
-            w.class_qfloor[k] =
-                w.class_qmax[k] + link.map_or(0.0, |(p, f)| f * w.class_qmax[p as usize]);
+            w.class_qfloor[k] = crate::assembly::class_floor(w.class_qmax[k], link, &w.class_qmax);
         }
         // The largest |q̈| of all coordinates and the largest |λ| of all
         // multipliers, apart: one is an acceleration, the other a force, and
@@ -758,6 +768,7 @@ fn ga_step<B: Body>(
             }
             w.prev_h = h;
             w.prev_a.copy_from_slice(&s.a);
+            w.prev_lam.copy_from_slice(&s.lambda);
             s.t = t1;
             s.q.copy_from_slice(&w.q);
             asm.project_normalization_rates(&w.q, &mut w.v);

@@ -244,7 +244,7 @@ struct Path<'s, B: Body> {
     dense: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
     coord_class: Vec<u32>,
     mult_class: Vec<u32>,
-    class_link: Vec<Option<(u32, f64)>>,
+    class_link: Vec<crate::assembly::ClassLink>,
     coord_classes: usize,
     class_max: Vec<f64>,
     class_floor: Vec<f64>,
@@ -476,7 +476,7 @@ impl<'s, B: Body> Path<'s, B> {
         }
         for (k, link) in self.class_link.iter().enumerate() {
             self.class_floor[k] =
-                self.class_max[k] + link.map_or(0.0, |(p, f)| f * self.class_max[p as usize]);
+                crate::assembly::class_floor(self.class_max[k], link, &self.class_max);
         }
         let (coords, mults) = self
             .class_max

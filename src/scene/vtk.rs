@@ -17,7 +17,8 @@
 //! Point data (one value per point): `displacement` (the elastic
 //! displacement `A Σ s_j q_j`, global axes), `rotation` (the section's small
 //! rotation `A ψ`, global axes; 0 at an FE node, which has no rotation),
-//! `axis_x`, `axis_y`, `axis_z` (the section's axes `A (e_k + ψ × e_k)`; a
+//! `axis_x`, `axis_y`, `axis_z` (the section's axes `A R_s(ψ) e_k`, exact
+//! (docs/theory.md §16); in a mode shape's animation `A (e_k + ψ × e_k)`; a
 //! rigid body's, an FE body's or a joint marker's axes), `x` (the point's
 //! place on the undeformed axis; 0 for vertices), `body` (the body's index
 //! in the scene, -1 for a joint) and `kind` (0 a point between nodes, 1 a

@@ -47,19 +47,23 @@ fn parse_steps(s: &str) -> Result<usize, String> {
 }
 
 /// The JSON of a static solution: `{"outputs": {NAME: value, …}, "steps":
-/// K, "iterations": n, "warnings": [TEXT, …]}` (warnings: a body turned
-/// past what one floating frame describes).
+/// K, "iterations": n}`, and `"warnings": [TEXT, …]` only when a body
+/// turned past what one floating frame describes (the contract's three
+/// keys otherwise).
 pub fn static_json(s: &SceneStatic) -> Value {
     let mut outputs = Map::new();
     for (n, v) in s.names.iter().zip(&s.values) {
         outputs.insert(n.clone(), json!(v));
     }
-    json!({
+    let mut out = json!({
         "outputs": Value::Object(outputs),
         "steps": s.steps,
         "iterations": s.iterations,
-        "warnings": s.warnings,
-    })
+    });
+    if !s.warnings.is_empty() {
+        out["warnings"] = json!(s.warnings);
+    }
+    out
 }
 
 /// Run `ffr static`: solve, write the CSV row, print the outputs (or the

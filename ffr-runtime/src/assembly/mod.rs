@@ -137,9 +137,22 @@ pub struct Assembly<'s, B: Body> {
     load_scale: f64,
 }
 
-/// A class's link (see [`Assembly::classes`]): the class whose positions,
-/// times the factor, also set this class's round-off floor.
-pub(crate) type ClassLink = Option<(u32, f64)>;
+/// A class's links (see [`Assembly::classes`]): a class whose positions,
+/// times the factor, also set this class's round-off floor, and a constant
+/// added to it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct ClassLink {
+    /// The linked class and the factor on its largest `|q|`.
+    pub(crate) link: Option<(u32, f64)>,
+    /// A constant part of the floor (a length or an angle).
+    pub(crate) constant: f64,
+}
+
+/// The round-off floor of a class: its own largest `|q|` plus its link's
+/// (`qmax` by class) and its constant.
+pub(crate) fn class_floor(own: f64, link: &ClassLink, qmax: &[f64]) -> f64 {
+    own + link.constant + link.link.map_or(0.0, |(p, f)| f * qmax[p as usize])
+}
 
 fn v3(x: &[f64]) -> Vector3<f64> {
     Vector3::new(x[0], x[1], x[2])
@@ -266,11 +279,30 @@ impl<'s, B: Body> Assembly<'s, B> {
             // translations, elastic rotations.
             let base = n_classes;
             n_classes += 4;
+            // A beam's elastic translations and rotations are linked by its
+            // length. A segment of a body run as segments has its elastic
+            // coordinates at the cuts set by the cut joints, through
+            // differences of positions as large as its length and axes of
+            // unit length: they are not known better than ε l and ε (a
+            // constant floor; a body not run as segments keeps its own).
+            let segment = sys.segment_group(crate::marker::BodyId(i)).is_some();
             match lay.length {
                 Some(l) if l > 0.0 && l.is_finite() && b.nf > 0 => {
-                    class_link.extend([None, None, Some((base + 3, l)), Some((base + 2, 1.0 / l))])
+                    let (ct, cr) = if segment { (l, 1.0) } else { (0.0, 0.0) };
+                    class_link.extend([
+                        ClassLink::default(),
+                        ClassLink::default(),
+                        ClassLink {
+                            link: Some((base + 3, l)),
+                            constant: ct,
+                        },
+                        ClassLink {
+                            link: Some((base + 2, 1.0 / l)),
+                            constant: cr,
+                        },
+                    ])
                 }
-                _ => class_link.extend([None; 4]),
+                _ => class_link.extend([ClassLink::default(); 4]),
             }
             for k in 0..nfr {
                 coord_class[o + k] = base + u32::from(k >= b.d);
@@ -380,7 +412,7 @@ impl<'s, B: Body> Assembly<'s, B> {
             }
             n_classes += 1;
         }
-        class_link.resize(n_classes as usize, None);
+        class_link.resize(n_classes as usize, ClassLink::default());
         // The border's Schur complement is dense: bound it before allocating.
         let nb = n_border as usize;
         if nb.saturating_mul(nb) > MAX_BORDER_ENTRIES {
