@@ -65,6 +65,11 @@ pub struct SpinUp {
     /// Gravity along the spin axis, `−z` (m/s²; spatial model only, 0 in
     /// the benchmark): the beam also bends out of the rotation plane.
     pub gravity: f64,
+    /// Run the beam as this many FFR sub-bodies (`segments = N` of a scene
+    /// file, issue 35; a divisor of [`SpinUp::elements`]); 1: one body.
+    /// Above 1 the run goes through the scene module
+    /// ([`segmented_scene`]).
+    pub segments: usize,
 }
 
 impl SpinUp {
@@ -86,6 +91,7 @@ impl SpinUp {
             force_tape: false,
             modal: None,
             gravity: 0.0,
+            segments: 1,
         }
     }
 
@@ -259,6 +265,9 @@ pub fn system(cfg: &SpinUp) -> Result<(BeamSystem, Probe), Box<dyn std::error::E
 /// Divergence (|tip| > L) or an integrator failure stops the run and is
 /// reported in [`SpinUpResult::diverged`]; bad input is an `Err`.
 pub fn run(cfg: &SpinUp) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
+    if cfg.segments > 1 {
+        return run_segmented(cfg);
+    }
     run_with(cfg, |_| ControlFlow::Continue(()))
 }
 
@@ -270,6 +279,13 @@ pub fn run_with(
     stop: impl FnMut(f64) -> ControlFlow<()>,
 ) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
     let length = cfg.params.length;
+    if cfg.segments > 1 {
+        return Err(format!(
+            "spin-up: {} segments run through the scene module (`run`), without a stop callback",
+            cfg.segments
+        )
+        .into());
+    }
     match &cfg.modal {
         None => {
             let (sys, probe) = system(cfg)?;
@@ -402,4 +418,168 @@ pub fn joint_driven_system(
     sys.revolute(hub.clone(), origin.clone())?;
     sys.prescribe_rotation(hub, origin, cfg.driver())?;
     Ok((sys, probe))
+}
+
+/// A number as TOML reads it back exactly (Rust's shortest round-trip
+/// form, always with a fraction or an exponent).
+fn toml_number(x: f64) -> String {
+    format!("{x:?}")
+}
+
+/// The spin-up as a scene file's text: the model of [`system`] (the beam
+/// clamped to a hub at the origin, a revolute joint to the ground driven by
+/// the spin-up profile, gravity along −z if any), with `segments =
+/// cfg.segments`, and the tip deflections in the hub (root segment's)
+/// frame as outputs `tip_axial`, `tip_transverse` and, in space,
+/// `tip_lateral`. The integrator line is generalized-α ρ∞ = 0.8; the run
+/// uses [`SpinUp::integrator`] ([`segmented_scene`]).
+pub fn scene_text(cfg: &SpinUp) -> String {
+    let n = toml_number;
+    let p = &cfg.params;
+    let stiffening = match cfg.stiffening {
+        Stiffening::Off => "false",
+        Stiffening::SecondOrder => "\"second-order\"",
+        Stiffening::FourthOrder => "\"fourth-order\"",
+    };
+    let formalism = match cfg.formalism {
+        Formalism::Consistent => "consistent",
+        Formalism::Lumped => "lumped",
+    };
+    let (dim, shape, position) = if cfg.spatial {
+        (3, "beam3", "[0.0, 0.0, 0.0]")
+    } else {
+        (2, "beam2", "[0.0, 0.0]")
+    };
+    let mut s = format!(
+        "description = \"KRB spin-up beam ({shape}, {} elements in {} segments, {} rad/s)\"\n\
+         dimension = {dim}\n",
+        cfg.elements, cfg.segments, cfg.omega_s
+    );
+    if cfg.gravity != 0.0 {
+        s += &format!("gravity = [0.0, 0.0, {}]\n", n(-cfg.gravity));
+    }
+    s += &format!(
+        "t_end = {}\ndt = {}\nintegrator = {{ kind = \"generalized-alpha\", rho_inf = 0.8 }}\n\n\
+         [bodies.beam]\nshape = \"{shape}\"\nelements = {}\nsegments = {}\n\
+         reference = \"clamped\"\nstiffening = {stiffening}\nformalism = \"{formalism}\"\n\
+         params = {{ length = {}, rho = {}, area = {}, iy = {}, iz = {}, e = {}, g = {}, j = {} }}\n\
+         position = {position}\n",
+        n(cfg.t_end),
+        n(cfg.dt),
+        cfg.elements,
+        cfg.segments,
+        n(p.length),
+        n(p.rho),
+        n(p.area),
+        n(p.iy),
+        n(p.iz),
+        n(p.e),
+        n(p.g),
+        n(p.j),
+    );
+    let ground = if cfg.spatial {
+        "[0.0, 0.0, 0.0]"
+    } else {
+        s += "angle = 0.0\n";
+        "[0.0, 0.0]"
+    };
+    s += &format!(
+        "\n[[joints]]\nkind = \"revolute\"\na = \"ground@{ground}\"\nb = \"beam\"\n\
+         drive = {{ angle = \"spin-up\", omega = {}, ramp = {} }}\n",
+        n(cfg.omega_s),
+        n(cfg.t_ramp)
+    );
+    let mut outputs = vec![("tip_axial", "x"), ("tip_transverse", "y")];
+    if cfg.spatial {
+        outputs.push(("tip_lateral", "z"));
+    }
+    for (name, c) in outputs {
+        s += &format!(
+            "\n[[outputs]]\nname = \"{name}\"\nkind = \"deflection\"\nat = \"beam@x={}\"\ncomponent = \"{c}\"\n",
+            n(p.length)
+        );
+    }
+    s
+}
+
+/// The scene of [`scene_text`], loaded with the built-in kernels, its
+/// integrator [`SpinUp::integrator`].
+pub fn segmented_scene(cfg: &SpinUp) -> Result<ffr::scene::Scene, Box<dyn std::error::Error>> {
+    check_drive(cfg)?;
+    if cfg.modal.is_some() || cfg.general || cfg.force_tape {
+        return Err(
+            "spin-up: segments run the scene's compiled nodal bodies (no modal, general or tape variant)"
+                .into(),
+        );
+    }
+    let mut scene = ffr::scene::from_str(
+        &scene_text(cfg),
+        "spin-up (segments)",
+        &ffr::scene::load::builtin_dir(),
+        &ffr::scene::DefaultKernels,
+    )?;
+    scene.integrator = cfg.integrator;
+    Ok(scene)
+}
+
+/// The spin-up with the beam run as [`SpinUp::segments`] sub-bodies (also
+/// 1: the scene module's run of the same model as [`run`]), through
+/// [`segmented_scene`] and `ffr::scene::run`: the CPU time is that of the
+/// scene's run (its `System::simulate` and the recording of the tip
+/// deflections at every step; the scene is built before the clock starts).
+/// A run that stopped early is reported in [`SpinUpResult::diverged`].
+pub fn run_segmented(cfg: &SpinUp) -> Result<SpinUpResult, Box<dyn std::error::Error>> {
+    let scene = segmented_scene(cfg)?;
+    let c0 = crate::clock::thread_cpu_seconds();
+    let start = std::time::Instant::now();
+    let r = ffr::scene::run(&scene)?;
+    let wall = start.elapsed().as_secs_f64();
+    let cpu = crate::clock::thread_cpu_seconds() - c0;
+    let col = |name: &str| {
+        r.names
+            .iter()
+            .position(|n| n == name)
+            .map(|i| r.columns[i].clone())
+            .unwrap_or_default()
+    };
+    let length = cfg.params.length;
+    let mut res = SpinUpResult {
+        tip_axial: col("tip_axial"),
+        tip_transverse: col("tip_transverse"),
+        tip_lateral: col("tip_lateral"),
+        t: r.t.clone(),
+        steps: r.steps,
+        newton_iterations: r.newton_iterations,
+        jacobians: r.jacobians,
+        restarts: r.restarts,
+        splits: r.splits,
+        wall,
+        cpu,
+        body: format!(
+            "{} {} elements in {} segments",
+            if cfg.spatial { "beam3" } else { "beam2" },
+            cfg.elements,
+            cfg.segments
+        ),
+        kernels: "compiled",
+        diverged: None,
+    };
+    // As `simulate`: the first sample whose tip left the beam's length.
+    let far = (0..res.t.len()).find(|&k| {
+        let w = res.tip_lateral.get(k).copied().unwrap_or(0.0);
+        let norm = (res.tip_axial[k].powi(2) + res.tip_transverse[k].powi(2) + w * w).sqrt();
+        !(norm <= length)
+    });
+    if let Some(k) = far {
+        res.diverged = Some(Divergence {
+            t: res.t[k],
+            reason: format!("tip displacement exceeds the beam length {length} m"),
+        });
+    } else if let Some(f) = r.failed {
+        res.diverged = Some(Divergence {
+            t: res.t.last().copied().unwrap_or(0.0),
+            reason: f,
+        });
+    }
+    Ok(res)
 }

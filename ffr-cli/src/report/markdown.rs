@@ -162,6 +162,113 @@ fn variant_reading(points: &[Point], suffix: &str, what: &str) -> Option<String>
     (!lines.is_empty()).then(|| lines.join(" "))
 }
 
+/// The segmented families (`…-seg<N>`) against their one-body family at
+/// the same elements and step: how much the error falls and the CPU time
+/// grows, and the smallest error each family reaches.
+fn segments_reading(points: &[Point]) -> Option<String> {
+    let mut lines = Vec::new();
+    for fam in families(points) {
+        let Some((base, n)) = fam.rsplit_once("-seg") else {
+            continue;
+        };
+        if n.parse::<usize>().is_err() {
+            continue;
+        }
+        let (mut errs, mut cpus) = (Vec::new(), Vec::new());
+        for v in points.iter().filter(|p| p.method == fam) {
+            if let Some(b) = points
+                .iter()
+                .find(|b| b.method == base && b.elements == v.elements && b.dt == v.dt)
+            {
+                errs.push(v.error / b.error.max(1e-300));
+                cpus.push(v.cpu_s / b.cpu_s);
+            }
+        }
+        let best = points
+            .iter()
+            .filter(|p| p.method == fam)
+            .min_by(|a, b| a.error.total_cmp(&b.error));
+        let Some(best) = best else { continue };
+        let mut line = format!(
+            "`{fam}` ({n} segments): smallest error {} ({} elements, dt = {} s, {} s CPU)",
+            err(best.error),
+            best.elements,
+            dt(best.dt),
+            sig(best.cpu_s)
+        );
+        if !errs.is_empty() {
+            errs.sort_by(f64::total_cmp);
+            cpus.sort_by(f64::total_cmp);
+            line.push_str(&format!(
+                "; against `{base}` at the same elements and step ({} pairs) the error is {}–{} of the one body's (median {}) at {}–{} its CPU time (median {})",
+                errs.len(),
+                ratio(errs[0], 1.0),
+                ratio(*errs.last().unwrap(), 1.0),
+                ratio(errs[errs.len() / 2], 1.0),
+                ratio(cpus[0], 1.0),
+                ratio(*cpus.last().unwrap(), 1.0),
+                ratio(cpus[cpus.len() / 2], 1.0),
+            ));
+        }
+        lines.push(format!("{line}."));
+    }
+    (!lines.is_empty()).then(|| format!("Segments: {}", lines.join(" ")))
+}
+
+/// ffr's Pareto front at the errors of a peer's front points: at how many
+/// ffr's front (interpolated) is as cheap or cheaper, dearer, or out of
+/// reach (below ffr's smallest error).
+fn front_at_peer_points(ffr: &[&Point], peer: &[&Point], tool: &str) -> Option<String> {
+    let (ff, pf) = (pareto(ffr.iter().copied()), pareto(peer.iter().copied()));
+    if ff.is_empty() || pf.is_empty() {
+        return None;
+    }
+    let (mut cheaper, mut dearer, mut out) = (Vec::new(), Vec::new(), Vec::new());
+    for p in &pf {
+        match cost_at(&ff, p.error) {
+            Some(c) if c <= p.cpu_s => cheaper.push(c / p.cpu_s),
+            Some(c) => dearer.push((p.error, c / p.cpu_s)),
+            None => out.push(p.error),
+        }
+    }
+    let mut parts = vec![format!(
+        "at the errors of {}'s {} front points ({}–{}) ffr's front is as cheap or cheaper at {}",
+        tool_title(tool),
+        pf.len(),
+        err(pf.iter().map(|p| p.error).fold(f64::INFINITY, f64::min)),
+        err(pf.iter().map(|p| p.error).fold(0.0, f64::max)),
+        cheaper.len()
+    )];
+    if !cheaper.is_empty() {
+        cheaper.sort_by(f64::total_cmp);
+        parts[0].push_str(&format!(
+            " ({}–{} of its time)",
+            ratio(cheaper[0], 1.0),
+            ratio(*cheaper.last().unwrap(), 1.0)
+        ));
+    }
+    if !dearer.is_empty() {
+        let worst = dearer.iter().map(|d| d.1).fold(0.0, f64::max);
+        parts.push(format!(
+            "dearer at {} (errors {}–{}, up to {})",
+            dearer.len(),
+            err(dearer.iter().map(|d| d.0).fold(f64::INFINITY, f64::min)),
+            err(dearer.iter().map(|d| d.0).fold(0.0, f64::max)),
+            ratio(worst, 1.0)
+        ));
+    }
+    if !out.is_empty() {
+        parts.push(format!(
+            "out of reach at {} (errors {}–{}, below ffr's smallest {})",
+            out.len(),
+            err(out.iter().copied().fold(f64::INFINITY, f64::min)),
+            err(out.iter().copied().fold(0.0, f64::max)),
+            err(ffr.iter().map(|p| p.error).fold(f64::INFINITY, f64::min))
+        ));
+    }
+    Some(parts.join(", "))
+}
+
 /// The report.
 pub fn report(inp: &Input) -> String {
     let mut s = String::new();
@@ -266,7 +373,11 @@ pub fn report(inp: &Input) -> String {
     );
     let _ = writeln!(
         s,
-        "- **Modal bodies** (`-modal16` families): the spin-ups' 16-element beam reduced to `elements` normal modes (2, 4, 8; in space 4, 8) plus its static modes (inertia loads, modal derivatives; docs/modal.md), `modal_cases` in `src/report/grid.rs`.\n"
+        "- **Modal bodies** (`-modal16` families): the spin-ups' 16-element beam reduced to `elements` normal modes (2, 4, 8; in space 4, 8) plus its static modes (inertia loads, modal derivatives; docs/modal.md), `modal_cases` in `src/report/grid.rs`."
+    );
+    let _ = writeln!(
+        s,
+        "- **Segmented beams** (`-seg<N>` families, spin-ups only): the beam of `elements` elements run as `N` FFR sub-bodies of `elements / N` elements, each with its own floating frame, joined by exact cut joints (`segments = N` of a scene file, docs/scenes.md). These runs go through the scene module (`spin_up::scene_text`, the same model as the one-body runs: `ffr-cli/tests/report.rs`); their CPU time is that of the scene's run, `System::simulate` with the tip deflections recorded at every step.\n"
     );
 
     // ---------------------------------------------------------------- summary
@@ -475,6 +586,13 @@ fn scene_section(s: &mut String, inp: &Input, sc: Scene, peer_tools: &[String]) 
         if !cmp.is_empty() {
             let _ = write!(s, " Interpolated fronts: {}.", cmp.join("; "));
         }
+        let mine: Vec<&Point> = pts.iter().collect();
+        if let Some(r) = front_at_peer_points(&mine, &set, t) {
+            let _ = write!(s, " Pareto fronts: {r}.");
+        }
+    }
+    if let Some(r) = segments_reading(&pts) {
+        let _ = write!(s, " {r}");
     }
     if let Some(r) = variant_reading(&pts, "-tape", "the tape") {
         let _ = write!(s, " {r}");

@@ -164,6 +164,7 @@ fn reached(summary_t: f64, t_end: f64, dt: f64) -> Result<(), Failure> {
 }
 
 fn not_body(case: &Case) -> Result<(), Failure> {
+    not_segmented(case)?;
     if case.method.body != BodyModel::Beam {
         return Err(Failure::new(
             format!("{} has no such body", case.scene),
@@ -173,6 +174,19 @@ fn not_body(case: &Case) -> Result<(), Failure> {
     if case.method.general && !matches!(case.scene, Scene::SpinUp4 | Scene::SpinUp10) {
         return Err(Failure::new(
             "the general-vs-specialized choice applies to the planar spin-ups only",
+            None,
+        ));
+    }
+    Ok(())
+}
+
+fn not_segmented(case: &Case) -> Result<(), Failure> {
+    if case.method.segments != 1 {
+        return Err(Failure::new(
+            format!(
+                "segments are measured on the spin-ups only, not on {}",
+                case.scene
+            ),
             None,
         ));
     }
@@ -245,6 +259,16 @@ fn run_spin_up(case: &Case, omega: f64) -> Result<Run, Failure> {
     cfg.formalism = m.formalism;
     cfg.force_tape = m.tape;
     cfg.general = m.general;
+    cfg.segments = m.segments;
+    if m.segments == 0 || !case.elements.is_multiple_of(m.segments) {
+        return Err(Failure::new(
+            format!(
+                "{} segments do not divide {} elements",
+                m.segments, case.elements
+            ),
+            None,
+        ));
+    }
     if m.body == BodyModel::Modal {
         cfg.elements = super::grid::MODAL_MESH;
         cfg.modal = Some(ffr::modal::ModalSettings::truncation(case.elements));
@@ -312,6 +336,7 @@ fn run_slider_crank(case: &Case) -> Result<Run, Failure> {
         beam_init, beam_rod, simeon_init, simeon_rod, sine_amplitude, slider_crank_guided,
         SliderGuide, PUBLISHED, SIMEON_INIT, T_END,
     };
+    not_segmented(case)?;
     let m = &case.method;
     if m.general {
         return Err(Failure::new(
