@@ -80,7 +80,7 @@ def main():
                 rot = max(float(x) for x in re.findall(r"elastic rotation of `[^`]*`: at most ([0-9.]+) rad", p.stdout))
                 m = re.search(r"steps: (\d+) of dt = \S+ s, (\d+) Newton iterations, (\d+) iteration matrices.*CPU time ([0-9.]+) s", p.stdout)
                 steps, its, mats, cpu = int(m[1]), int(m[2]), int(m[3]), float(m[4])
-                restarts = re.search(r"(\d+) restarted", p.stdout)
+                restarts = re.search(r"(\d+) steps? restarted", p.stdout)
                 rows = read_csv(csv_path)
                 errs = [error(rows, ref, c, r) for c, r in cols]
                 warned = "warning: body" in p.stderr
