@@ -82,6 +82,8 @@ pub mod attr {
 /// resolved scene as data).
 pub mod scenes {
     include!(concat!(env!("OUT_DIR"), "/two_links.rs"));
+    include!(concat!(env!("OUT_DIR"), "/spin_up_segments.rs"));
+    include!(concat!(env!("OUT_DIR"), "/spin_up_modal_segments.rs"));
     include!(concat!(env!("OUT_DIR"), "/builtin_free_floating.rs"));
     include!(concat!(env!("OUT_DIR"), "/builtin_pendulum.rs"));
     include!(concat!(env!("OUT_DIR"), "/builtin_precone.rs"));
