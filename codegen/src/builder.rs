@@ -26,7 +26,7 @@
 use crate::body::{BodySpec, Formalism, Reference};
 use crate::emit::{emit_body_file, emit_kernels_file, EmitOptions};
 #[cfg(feature = "scene")]
-use crate::emit::{emit_scene_file, SceneKernels};
+use crate::emit::{emit_scene_file, SceneKernels, SceneSegments};
 use crate::eom::KernelModel;
 use crate::error::Error;
 use crate::kernel::generate_checked;
@@ -386,7 +386,11 @@ impl Builder {
     /// `arm.rs`) whose `spec()` is the scene resolved at build time, as data,
     /// and whose `load()` builds it with these kernels (no file is parsed at
     /// start-up; the crate needs `ffr`'s feature `scene`): it simulates bit
-    /// for bit like `ffr run` on the file.
+    /// for bit like `ffr run` on the file. A body run as segments
+    /// (`segments = N`) gets its root segment's kernels (named by the body,
+    /// also those of the whole body) and one set shared by its outboard
+    /// segments `NAME[2]` … `NAME[N]` (free frames), and a modal body one
+    /// reduction per distinct segment besides the whole body's.
     #[cfg(feature = "scene")]
     pub fn scene(self, path: impl AsRef<str>) -> Self {
         let p = path.as_ref().to_string();
@@ -611,35 +615,55 @@ pub fn generate_scene(
             ),
         });
     }
-    let bodies = crate::scene::flex_models(&raw, &text, origin)?
-        .into_iter()
-        .map(|m| {
-            let shape = resolve_shape(&m.shape, &dir)?;
-            // Varying-section kernels for a body the scene resolves to a
-            // section table (a uniform material table is `params`).
-            let varying = spec.bodies.iter().any(|b| match &b.kind {
-                ffr_spec::scene::BodyKind::Flexible(f) => f.name == m.name && f.sections.is_some(),
-                _ => false,
-            });
-            let sections = if varying {
-                SectionModel::Varying
-            } else {
-                SectionModel::Uniform
-            };
-            Ok((
-                m.name,
-                generate_checked(&KernelModel::new(shape, m.options).with_sections(sections))?,
-            ))
+    let flex = |name: &str| {
+        spec.bodies.iter().find_map(|b| match &b.kind {
+            ffr_spec::scene::BodyKind::Flexible(f) if f.name == name => Some(f),
+            _ => None,
         })
-        .collect::<Result<Vec<_>, Error>>()?;
-    let (modal, modal_kernels) = scene_modal_bodies(&spec, type_name, runtime_path)?;
+    };
+    let mut bodies = Vec::new();
+    let mut segments = Vec::new();
+    for m in crate::scene::flex_models(&raw, &text, origin)? {
+        let shape = resolve_shape(&m.shape, &dir)?;
+        let f = flex(&m.name);
+        // Varying-section kernels for a body the scene resolves to a
+        // section table (a uniform material table is `params`).
+        let sections = if f.is_some_and(|f| f.sections.is_some()) {
+            SectionModel::Varying
+        } else {
+            SectionModel::Uniform
+        };
+        // A body run as segments: its outboard segments are clamped with
+        // free frames (`FlexSpec::segment`), all alike, so they share one
+        // kernel set: the body's own when its frame is free too.
+        if let Some(f) = f.filter(|f| f.segments > 1) {
+            let options = f.segment(1).options;
+            let kernels = if options == m.options {
+                None
+            } else {
+                Some(generate_checked(
+                    &KernelModel::new(shape.clone(), options).with_sections(sections),
+                )?)
+            };
+            segments.push(SceneSegments {
+                body: m.name.clone(),
+                names: (1..f.segments).map(|k| f.segment_name(k)).collect(),
+                kernels,
+            });
+        }
+        bodies.push((
+            m.name,
+            generate_checked(&KernelModel::new(shape, m.options).with_sections(sections))?,
+        ));
+    }
+    let modal = scene_modal_bodies(&spec, type_name, runtime_path)?;
     let scene = SceneKernels {
         origin,
         text: &text,
         spec: &spec,
         bodies,
+        segments,
         modal,
-        modal_kernels,
     };
     emit_scene_file(&scene, type_name, runtime_path)
 }
@@ -648,65 +672,133 @@ pub fn generate_scene(
 /// (equal elements of one section, no attached masses: the others are
 /// reduced when the scene is built, as `ffr run` does), and the generated
 /// inertia kernels of those with at most `MAX_GENERATED_MODES` modes. A
-/// reduction that fails is an error naming the body and where `modes` is
+/// body run as segments has one reduction per distinct segment (each is
+/// reduced by Craig–Bampton with its outboard cut as a boundary node, so
+/// the root's and the last's differ from the others': `FlexSpec::segment`)
+/// besides the whole body's (for `modes`, `invariants`; it has the root
+/// segment's name, so its arm asks for its elements). A reduction that
+/// fails is an error naming the body or segment and where `modes` is
 /// written.
 #[cfg(all(feature = "scene", feature = "modal"))]
-#[allow(clippy::type_complexity)]
 fn scene_modal_bodies(
     spec: &ffr_spec::scene::SceneSpec,
     type_name: &str,
     runtime_path: &str,
-) -> Result<(Vec<(String, String)>, Vec<(String, String)>), Error> {
+) -> Result<Vec<crate::emit::SceneModal>, Error> {
     let scene = ffr_spec::SceneDim::from_dim(spec.dim)
         .ok_or_else(|| Error::Body(format!("a scene of dimension {}, not 2 or 3", spec.dim)))?;
     let mut out = Vec::new();
-    let mut kernels = Vec::new();
     for b in &spec.bodies {
         let ffr_spec::scene::BodyKind::Flexible(f) = &b.kind else {
             continue;
         };
-        let Some((settings, at)) = &f.modal else {
-            continue;
-        };
-        if f.nodes.is_some() || f.sections.is_some() || !f.masses.is_empty() {
+        if f.modal.is_none() || f.nodes.is_some() || f.sections.is_some() || !f.masses.is_empty() {
             continue;
         }
-        let bad = |e: String| Error::Body(format!("{at}: body `{}`: {e}", f.name));
-        // The scene resolved the shape's path against its directory already;
-        // read it as the runtime's reduction does (`ReducibleBody::from_parts`).
-        let shape = Shape::resolve(&f.shape, None)?;
-        let body =
-            BodySpec::new(shape, f.elements, f.reference)?.with_formalism(f.options.formalism);
-        let model =
-            crate::modal::ModalModel::of_body(&body, &f.params, settings, f.options.stiffening)
-                .map_err(|e| bad(e.to_string()))?;
-        let description = crate::emit::modal_description(&model, &body, &f.params);
-        out.push((
-            f.name.clone(),
-            crate::emit::modal_consts(&model, &description, runtime_path)?,
+        // What to reduce: (spec, names served, elements asked for, the
+        // constant's name, the inertia kernels' type).
+        #[allow(clippy::type_complexity)]
+        let mut todo: Vec<(
+            ffr_spec::scene::FlexSpec,
+            Vec<String>,
+            Option<usize>,
+            String,
+            String,
+        )> = Vec::new();
+        let whole = ffr_spec::scene::FlexSpec {
+            segments: 1,
+            ..f.clone()
+        };
+        todo.push((
+            whole,
+            vec![f.name.clone()],
+            (f.segments > 1).then_some(f.elements),
+            "MODAL".into(),
+            crate::emit::scene_modal_kernels_type(type_name, &f.name),
         ));
-        if let Some(set) =
-            crate::modal::generate_modal_kernels(&model, scene).map_err(|e| bad(e.to_string()))?
-        {
-            kernels.push((
-                f.name.clone(),
-                crate::emit::scene_modal_kernel_items(&set, type_name, &f.name, runtime_path),
-            ));
+        if f.segments > 1 {
+            // Equal segments (all but their names) share one reduction.
+            let mut groups: Vec<(usize, ffr_spec::scene::FlexSpec, Vec<String>)> = Vec::new();
+            for k in 0..f.segments {
+                let s = f.segment(k);
+                let key = ffr_spec::scene::FlexSpec {
+                    name: String::new(),
+                    ..s.clone()
+                };
+                match groups.iter_mut().find(|(_, g, _)| *g == key) {
+                    Some((_, _, names)) => names.push(s.name),
+                    None => groups.push((k, key, vec![s.name])),
+                }
+            }
+            for (k, s, names) in groups {
+                let s = ffr_spec::scene::FlexSpec {
+                    name: f.segment_name(k),
+                    ..s
+                };
+                todo.push((
+                    s,
+                    names,
+                    None,
+                    format!("MODAL_SEGMENT_{}", k + 1),
+                    crate::emit::scene_segment_modal_kernels_type(type_name, &f.name, k + 1),
+                ));
+            }
+        }
+        for (s, names, elements, konst, kt) in todo {
+            let Some((settings, at)) = &s.modal else {
+                continue;
+            };
+            let what = if konst == "MODAL" {
+                format!("body `{}`", s.name)
+            } else {
+                format!("segment `{}`", s.name)
+            };
+            let bad = |e: String| Error::Body(format!("{at}: {what}: {e}"));
+            // The scene resolved the shape's path against its directory
+            // already; read it as the runtime's reduction does
+            // (`ReducibleBody::from_parts`).
+            let shape = Shape::resolve(&s.shape, None)?;
+            let body =
+                BodySpec::new(shape, s.elements, s.reference)?.with_formalism(s.options.formalism);
+            let model =
+                crate::modal::ModalModel::of_body(&body, &s.params, settings, s.options.stiffening)
+                    .map_err(|e| bad(e.to_string()))?;
+            let description = crate::emit::modal_description(&model, &body, &s.params);
+            let consts = crate::emit::modal_consts(&model, &description, runtime_path)?;
+            let kernels = crate::modal::generate_modal_kernels(&model, scene)
+                .map_err(|e| bad(e.to_string()))?
+                .map(|set| {
+                    let items = crate::emit::scene_modal_kernel_items(
+                        &set,
+                        type_name,
+                        &what,
+                        &kt,
+                        runtime_path,
+                    );
+                    (kt, items)
+                });
+            out.push(crate::emit::SceneModal {
+                body: f.name.clone(),
+                konst,
+                names,
+                elements,
+                consts,
+                kernels,
+            });
         }
     }
-    Ok((out, kernels))
+    Ok(out)
 }
 
 /// Without the `modal` feature a compiled scene's modal bodies are reduced
 /// when it is built.
 #[cfg(all(feature = "scene", not(feature = "modal")))]
-#[allow(clippy::type_complexity)]
 fn scene_modal_bodies(
     _: &ffr_spec::scene::SceneSpec,
     _: &str,
     _: &str,
-) -> Result<(Vec<(String, String)>, Vec<(String, String)>), Error> {
-    Ok((Vec::new(), Vec::new()))
+) -> Result<Vec<crate::emit::SceneModal>, Error> {
+    Ok(Vec::new())
 }
 
 /// The stations of a body's section table ([`crate::sections::body_stations`]).

@@ -949,13 +949,66 @@ pub struct SceneKernels<'a> {
     pub spec: &'a ffr_spec::scene::SceneSpec,
     /// Each flexible body's name and kernel set, in body-name order.
     pub bodies: Vec<(String, KernelSet)>,
-    /// The modal bodies reduced when the scene is compiled: name and
-    /// `ModalConsts` expression ([`modal_consts`]).
-    pub modal: Vec<(String, String)>,
-    /// The generated inertia kernels of those of them with at most
-    /// `MAX_GENERATED_MODES` modes: name and the items of the type
-    /// [`scene_modal_kernels_type`] names (`scene_modal_kernel_items`).
-    pub modal_kernels: Vec<(String, String)>,
+    /// The outboard segments of each body run as segments (`segments = N`).
+    pub segments: Vec<SceneSegments>,
+    /// The modal reductions made when the scene is compiled, in the order
+    /// their match arms are tried.
+    pub modal: Vec<SceneModal>,
+}
+
+/// The outboard segments `NAME[2]` … `NAME[N]` of a body run as segments:
+/// they share one kernel set (equal segments, clamped, free frames).
+#[derive(Clone, Debug)]
+pub struct SceneSegments {
+    /// The body's name (its root segment's).
+    pub body: String,
+    /// The outboard segments' names, `NAME[2]` … `NAME[N]`.
+    pub names: Vec<String>,
+    /// Their kernels (type [`scene_segment_kernels_type`]), or `None`: the
+    /// body's own (its frame is free as theirs are).
+    pub kernels: Option<KernelSet>,
+}
+
+/// A modal reduction made when the scene is compiled, served to the bodies
+/// named `names` (with `elements` elements, when given: the whole body of a
+/// body run as segments has the root segment's name).
+#[derive(Clone, Debug)]
+pub struct SceneModal {
+    /// The body whose kernel type holds the constant.
+    pub body: String,
+    /// The name of the constant (`MODAL` for the body's own reduction,
+    /// `MODAL_SEGMENT_k` for its segment `k`'s).
+    pub konst: String,
+    /// The names of the `FlexSpec`s it is for.
+    pub names: Vec<String>,
+    /// Only for a `FlexSpec` of this many elements, or `None`: any.
+    pub elements: Option<usize>,
+    /// The `ModalConsts` expression ([`modal_consts`]).
+    pub consts: String,
+    /// Its generated inertia kernels when it has at most
+    /// `MAX_GENERATED_MODES` modes: the type's name and its items.
+    pub kernels: Option<(String, String)>,
+}
+
+/// The kernels of the outboard segments of body `body` of the compiled
+/// scene `type_name`, when they differ from the body's (not ending in
+/// `Kernels`, so no body's name can give it).
+#[cfg(feature = "scene")]
+pub fn scene_segment_kernels_type(type_name: &str, body: &str) -> String {
+    format!(
+        "{type_name}{}KernelsOutboard",
+        crate::scene::body_type_name(body)
+    )
+}
+
+/// The generated inertia kernels of segment `k` (1-based, as in `NAME[k]`)
+/// of body `body` of the compiled scene `type_name`.
+#[cfg(feature = "scene")]
+pub fn scene_segment_modal_kernels_type(type_name: &str, body: &str, k: usize) -> String {
+    format!(
+        "{type_name}{}ModalKernelsSegment{k}",
+        crate::scene::body_type_name(body)
+    )
 }
 
 /// The name of the generated inertia kernels of body `body` of the compiled
@@ -968,26 +1021,21 @@ pub fn scene_modal_kernels_type(type_name: &str, body: &str) -> String {
     )
 }
 
-/// The generated inertia kernels of body `body` of the compiled scene
-/// `type_name` (formatted items of [`scene_modal_kernels_type`]).
+/// The generated inertia kernels `kt` of `what` (a body or a segment of
+/// the compiled scene `type_name`; formatted items).
 #[cfg(all(feature = "scene", feature = "modal"))]
 pub fn scene_modal_kernel_items(
     set: &crate::modal::ModalKernelSet,
     type_name: &str,
-    body: &str,
+    what: &str,
+    kt: &str,
     runtime_path: &str,
 ) -> String {
     let what = format!(
-        "body `{}` of `{type_name}`",
-        comment_text(body).replace('"', "\\\"")
+        "{} of `{type_name}`",
+        comment_text(what).replace('"', "\\\"")
     );
-    modal_kernel_impl(
-        set,
-        &scene_modal_kernels_type(type_name, body),
-        &what,
-        runtime_path,
-        Layout::Pretty,
-    )
+    modal_kernel_impl(set, kt, &what, runtime_path, Layout::Pretty)
 }
 
 /// The compiled form of a scene file: the specialized kernels of each of its
@@ -1014,6 +1062,21 @@ pub fn emit_scene_file(
     let mut arms = String::new();
     let mut modal_arms = String::new();
     let mut modal_kernel_arms = String::new();
+    let quoted = |names: &[String]| {
+        names
+            .iter()
+            .map(|n| format!("{n:?}"))
+            .collect::<Vec<_>>()
+            .join(" | ")
+    };
+    let kernels_arm = |arms: &mut String, names: &[String], kt: &str| {
+        writeln!(
+            arms,
+            "{} => ::core::result::Result::Ok((::std::boxed::Box::new({kt}), \"compiled (scene)\")),",
+            quoted(names)
+        )
+        .unwrap();
+    };
     for (name, set) in &scene.bodies {
         let body_type = crate::scene::body_type_name(name);
         let kt = format!("{type_name}{body_type}Kernels");
@@ -1022,33 +1085,80 @@ pub fn emit_scene_file(
             set,
         ));
         kernels.push_str(&kernel_impl(set, &kt, runtime_path, Layout::Pretty));
-        writeln!(
-            arms,
-            "{name:?} => ::core::result::Result::Ok((::std::boxed::Box::new({kt}), \"compiled (scene)\")),"
-        )
-        .unwrap();
-        if let Some((_, consts)) = scene.modal.iter().find(|(n, _)| n == name) {
+        // The body, and its outboard segments when they run its kernels.
+        let mut names = vec![name.clone()];
+        for s in scene.segments.iter().filter(|s| &s.body == name) {
+            if s.kernels.is_none() {
+                names.extend(s.names.iter().cloned());
+            }
+        }
+        kernels_arm(&mut arms, &names, &kt);
+        for m in scene.modal.iter().filter(|m| &m.body == name) {
+            let what = if m.names.len() == 1 {
+                format!("Body `{}`", comment_text(&m.names[0]))
+            } else {
+                format!(
+                    "Bodies {}",
+                    m.names
+                        .iter()
+                        .map(|n| format!("`{}`", comment_text(n)))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            };
+            let what = match m.elements {
+                Some(e) => format!("{what} ({e} elements)"),
+                None => what,
+            };
             writeln!(
                 items,
-                "impl {kt} {{\n#[doc = \" Body `{}` reduced when the scene was compiled: the basis and the projected invariants.\"]\n#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]\npub const MODAL: {runtime_path}::ModalConsts = {consts};\n}}",
-                comment_text(name).replace('"', "\\\"")
+                "impl {kt} {{\n#[doc = \" {} reduced when the scene was compiled: the basis and the projected invariants.\"]\n#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]\npub const {}: {runtime_path}::ModalConsts = {};\n}}",
+                what.replace('"', "\\\""),
+                m.konst,
+                m.consts
             )
             .unwrap();
+            let guard = match m.elements {
+                Some(e) => format!(" if spec.elements == {e}"),
+                None => String::new(),
+            };
             writeln!(
                 modal_arms,
-                "{name:?} => ::core::option::Option::Some(&{kt}::MODAL),"
+                "{}{guard} => ::core::option::Option::Some(&{kt}::{}),",
+                quoted(&m.names),
+                m.konst
             )
             .unwrap();
+            if let Some((mkt, text)) = &m.kernels {
+                kernels.push_str(text);
+                writeln!(
+                    modal_kernel_arms,
+                    "{}{guard} => ::core::option::Option::Some(::std::boxed::Box::new({mkt})),",
+                    quoted(&m.names),
+                )
+                .unwrap();
+            }
         }
-        if let Some((_, text)) = scene.modal_kernels.iter().find(|(n, _)| n == name) {
-            kernels.push_str(text);
-            writeln!(
-                modal_kernel_arms,
-                "{name:?} => ::core::option::Option::Some(::std::boxed::Box::new({})),",
-                scene_modal_kernels_type(type_name, name)
-            )
-            .unwrap();
-        }
+    }
+    // The outboard segments' own kernels (free frames where the body's is
+    // prescribed).
+    for s in &scene.segments {
+        let Some(set) = &s.kernels else { continue };
+        let kt = scene_segment_kernels_type(type_name, &s.body);
+        titled.push((
+            Some(format!(
+                "Segments {} of body `{}` → `{kt}`:",
+                s.names
+                    .iter()
+                    .map(|n| format!("`{}`", comment_text(n)))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                comment_text(&s.body)
+            )),
+            set,
+        ));
+        kernels.push_str(&kernel_impl(set, &kt, runtime_path, Layout::Pretty));
+        kernels_arm(&mut arms, &s.names, &kt);
     }
     let modal_fn = if modal_arms.is_empty() {
         String::new()

@@ -41,6 +41,10 @@ pub struct FlexBodyInput<'a> {
     /// settings say ([`crate::BodyConfig::modes`]); needs the feature
     /// `modal`.
     pub modal: Option<(ffr_spec::Params, ffr_spec::scene::ModalSettings)>,
+    /// `segments = N`: also `{type_name}::segments()`, the body split into
+    /// `N` segments for `System::add_segments` (uniform sections, not
+    /// modal).
+    pub segments: Option<usize>,
 }
 
 /// The generated code and what the attribute checks the struct against.
@@ -83,6 +87,9 @@ pub enum FlexBodyError {
     /// table, the generator built without `modal`).
     #[error("{0}")]
     Modal(String),
+    /// The body cannot be split as `segments` asks.
+    #[error("{0}")]
+    Segments(String),
 }
 
 /// Resolve, generate and emit the body the attribute describes.
@@ -110,6 +117,17 @@ pub fn expand(input: &FlexBodyInput) -> Result<FlexBody, FlexBodyError> {
     let spec = BodySpec::new(model.shape.clone(), input.elements, input.reference)
         .map_err(FlexBodyError::Elements)?
         .with_formalism(input.options.formalism);
+    if let Some(n) = input.segments {
+        let bad = |m: String| Err(FlexBodyError::Segments(m));
+        if input.sections.is_some() {
+            return bad("a body of a section table cannot be split here yet (use `segments = N` in a scene file, which splits the table at the cuts)".into());
+        }
+        if input.modal.is_some() {
+            return bad("`segments` with `modes`: a modal body is reduced whole here; reduce each segment in a scene file (`segments = N` with `modes = K`)".into());
+        }
+        ffr_spec::check_segments(n as i64, input.elements)
+            .map_err(|e| FlexBodyError::Segments(e.to_string()))?;
+    }
     let set = generate_checked(&model).map_err(FlexBodyError::Kernels)?;
     let has_sections = sections.is_some();
     let mut items = body_items(
@@ -122,6 +140,9 @@ pub fn expand(input: &FlexBodyInput) -> Result<FlexBody, FlexBodyError> {
             sections,
         },
     );
+    if let Some(n) = input.segments {
+        items.push_str(&segments_items(input, n));
+    }
     if let Some((p, settings)) = &input.modal {
         items.push_str(&modal_items(
             input,
@@ -145,6 +166,46 @@ pub fn expand(input: &FlexBodyInput) -> Result<FlexBody, FlexBodyError> {
             set.params_used()
         },
     })
+}
+
+/// `{type_name}::SEGMENTS` and `{type_name}::segments()` (unformatted):
+/// the body of `input.elements` equal elements split into `n` segments at
+/// nodes, as a scene file's `segments = n` splits it (`FlexSpec::segment`:
+/// the same section positions, [`ffr_spec::uniform_bounds`], and each
+/// segment's length their difference).
+fn segments_items(input: &FlexBodyInput, n: usize) -> String {
+    let (ty, rt) = (input.type_name, input.runtime_path);
+    let kt = format!("{ty}Kernels");
+    let per = input.elements / n;
+    let reference = match input.reference {
+        Reference::Clamped => "Clamped",
+        Reference::Pinned => "Pinned",
+        Reference::Free => "Free",
+    };
+    format!(
+        r#"impl {ty} {{
+#[doc = " The number of segments the body runs as (`#[flex_body(segments = {n})]`)."]
+pub const SEGMENTS: usize = {n};
+#[doc = " The body split at nodes into `SEGMENTS` segments of {per} equal elements, as a scene file's `segments = {n}` splits it:"]
+#[doc = " the root segment (this body's reference condition), the others (clamped at their roots) and the `SEGMENTS + 1`"]
+#[doc = " section positions bounding them on the body's axis. Add the root with `System::add_body` and the others with"]
+#[doc = " `System::add_segments(root, others, &bounds)`, which fixes each segment's frame to the previous one's end section."]
+pub fn segments(&self) -> {rt}::Result<({rt}::KernelBody<{kt}>, ::std::vec::Vec<{rt}::KernelBody<{kt}>>, ::std::vec::Vec<f64>)> {{
+let p = <Self as {rt}::CompiledBody>::params(self);
+let bounds = {rt}::spec::uniform_bounds(p.length, {elements}, {n});
+let segment = |k: usize, reference: {rt}::spec::Reference| {{
+let mut q = p;
+q.length = bounds[k + 1] - bounds[k];
+{rt}::KernelBody::new({kt}, q, {per}, reference)
+}};
+let root = segment(0, {rt}::spec::Reference::{reference})?;
+let others = (1..{n}).map(|k| segment(k, {rt}::spec::Reference::Clamped)).collect::<{rt}::Result<::std::vec::Vec<_>>>()?;
+::core::result::Result::Ok((root, others, bounds))
+}}
+}}
+"#,
+        elements = input.elements
+    )
 }
 
 /// The `{type_name}Modal` items of [`expand`].

@@ -52,6 +52,7 @@ pub use error::{Error, Location};
 pub use ffr_spec::scene::ModalSettings;
 pub use ffr_spec::{
     FrameModel, KernelOptions, Params, SceneDim, SectionModel, SectionProp, Stiffening,
+    MAX_SEGMENTS,
 };
 pub use kernel::{generate_checked, generate_kernels, KernelSet};
 pub use shape::{Kind, Shape};

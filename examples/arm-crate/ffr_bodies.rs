@@ -43,6 +43,11 @@ fn ffr_bodies() -> ffr_codegen::Builder {
         // A whole scene: the specialized kernels of its flexible bodies and
         // `TwoLinksScene::load()`, which simulates like `ffr run` on the file.
         .scene("scenes/two_links.toml")
+        // A body run as segments (`segments = 4`): kernels for the root
+        // segment's prescribed frame and for the free frames of `beam[2]` …
+        // `beam[4]`; and modal segments, each reduced when compiled.
+        .scene("scenes/spin_up_segments.toml")
+        .scene("scenes/spin_up_modal_segments.toml")
         // Every scene shipped with ffr, compiled the same way
         // (tests/compiled_scene.rs checks each against `ffr run`).
         .scene_named("builtin_free_floating", "../../scenes/free_floating.toml")

@@ -34,6 +34,14 @@ use syn::{Error, Expr, ExprLit, Fields, Item, ItemStruct, Lit, LitStr, Result, T
 ///   `.toml` shape file, relative to the crate root (`CARGO_MANIFEST_DIR`);
 ///   the crate is rebuilt when the file changes.
 /// - `elements = 8`: number of equal elements, 1 to 256.
+/// - `segments = 4`: also `<Name>::segments()`, the body split at nodes
+///   into this many segments of `elements / segments` elements for
+///   `System::add_segments` (large deflection: each segment has its own
+///   floating frame), exactly as a scene file's `segments = 4` splits it,
+///   and `<Name>::SEGMENTS`; 1 to 256, a divisor of `elements`. The type
+///   itself stays the whole body as one (its `CompiledBody` for modes and
+///   invariants). Not with `sections` or `modes` (split those in a scene
+///   file). See `docs/scenes.md`, "Segments".
 /// - `reference = "clamped" | "pinned" | "free"` (default `"clamped"`).
 /// - `formalism = "consistent" | "lumped"` (default `"consistent"`).
 /// - `stiffening = true | false | "second-order" | "fourth-order"`: geometric
@@ -75,7 +83,7 @@ pub fn flex_body(attr: TokenStream, item: TokenStream) -> TokenStream {
     }
 }
 
-const OPTIONS: &str = "shape, elements, reference, formalism, stiffening, scene, sections, modes, reduction, boundary_nodes, static_modes, modal_damping, params";
+const OPTIONS: &str = "shape, elements, segments, reference, formalism, stiffening, scene, sections, modes, reduction, boundary_nodes, static_modes, modal_damping, params";
 
 /// The attribute's options as written: the shape and mesh, and the kernel
 /// options as one value (the scene's literal kept for its error span).
@@ -83,6 +91,8 @@ const OPTIONS: &str = "shape, elements, reference, formalism, stiffening, scene,
 struct Args {
     shape: Option<LitStr>,
     elements: Option<(usize, Expr)>,
+    /// `segments = N` (its literal for spans).
+    segments: Option<(usize, Expr)>,
     reference: Option<Reference>,
     options: KernelOptions,
     scene: Option<LitStr>,
@@ -122,6 +132,7 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
             name.as_str(),
             "shape"
                 | "elements"
+                | "segments"
                 | "reference"
                 | "formalism"
                 | "stiffening"
@@ -236,6 +247,7 @@ fn parse_args(attr: TokenStream2) -> Result<Args> {
                 .map(|s| args.sections = Some(s)),
             "elements" => elements(&value).map(|n| args.elements = Some((n, value.clone()))),
             "modes" => modes(&value).map(|n| args.modes = Some((n, value.clone()))),
+            "segments" => segments(&value).map(|n| args.segments = Some((n, value.clone()))),
             "reduction" => string(&value, &name, "\"modal\" or \"craig-bampton\"").and_then(|s| {
                 args.modal_given.push(path.clone());
                 let cb = match s.value().as_str() {
@@ -438,6 +450,27 @@ fn modes(value: &Expr) -> Result<usize> {
     }
 }
 
+/// `segments = N`: an integer literal (its range and whether it divides
+/// `elements` are checked with the body, `ffr_spec::check_segments`).
+fn segments(value: &Expr) -> Result<usize> {
+    let n = match value {
+        Expr::Lit(ExprLit {
+            lit: Lit::Int(i), ..
+        }) => i.base10_parse::<usize>().ok(),
+        _ => None,
+    };
+    n.ok_or_else(|| {
+        Error::new_spanned(
+            value,
+            format!(
+                "`segments` must be an integer from 1 to {} (the number of segments, a divisor of `elements`), found `{}`",
+                ffr_codegen::MAX_SEGMENTS,
+                value.to_token_stream()
+            ),
+        )
+    })
+}
+
 /// `[0, 4]`: body node indices.
 fn node_list(value: &Expr) -> Result<Vec<usize>> {
     let bad = || {
@@ -600,6 +633,7 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
                 },
             )
         }),
+        segments: args.segments.as_ref().map(|(n, _)| *n),
     })
     .map_err(|e| match e {
         FlexBodyError::Shape(e) => {
@@ -620,6 +654,14 @@ fn expand(attr: TokenStream2, item: TokenStream2) -> Result<TokenStream2> {
         FlexBodyError::Elements(e) => Error::new_spanned(&elements_expr, e),
         FlexBodyError::Sections(e) => Error::new_spanned(
             args.sections.as_ref().expect("only a given table can fail"),
+            e,
+        ),
+        e @ FlexBodyError::Segments(_) => Error::new_spanned(
+            &args
+                .segments
+                .as_ref()
+                .expect("only a split body can fail so")
+                .1,
             e,
         ),
         e @ FlexBodyError::Modal(_) => Error::new_spanned(

@@ -37,7 +37,7 @@ pub use params::{Param, ParamError, Params};
 pub use section::{
     element_moments, fill_moments, twisted_moments, SectionError, SectionModel, SectionProp,
 };
-pub use segments::{check_segments, SegmentError, MAX_SEGMENTS};
+pub use segments::{check_segments, uniform_bounds, SegmentError, MAX_SEGMENTS};
 
 /// Offsets of the flat array of one element's invariants for `n` element
 /// coordinates, and its length: `[m, S_t0 (3), S̄ (3 n), S̄_kl (9 n²; k, l,

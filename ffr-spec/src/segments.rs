@@ -60,6 +60,26 @@ pub fn check_segments(segments: i64, elements: usize) -> Result<usize, SegmentEr
     Ok(n)
 }
 
+/// The `segments + 1` section positions bounding `segments` segments of a
+/// body of `elements` equal elements and length `length`: the nodes
+/// `k · elements / segments`, at `length · node / elements` (the last
+/// exactly `length`). [`FlexSpec::segment_bounds`] of a body without a
+/// graded mesh, and what `#[flex_body(segments = N)]` splits at.
+pub fn uniform_bounds(length: f64, elements: usize, segments: usize) -> Vec<f64> {
+    let n = segments.max(1);
+    let per = elements / n;
+    (0..=n)
+        .map(|k| {
+            let node = k * per;
+            if node == elements {
+                length
+            } else {
+                length * node as f64 / elements as f64
+            }
+        })
+        .collect()
+}
+
 /// The divisors of `e` next to `n` (for a message).
 fn divisors_near(e: usize, n: usize) -> String {
     let below = (1..n).rev().find(|d| e.is_multiple_of(*d));
@@ -88,16 +108,10 @@ impl FlexSpec {
     pub fn segment_bounds(&self) -> Vec<f64> {
         let n = self.segments.max(1);
         let per = self.elements / n;
-        (0..=n)
-            .map(|k| {
-                let node = k * per;
-                match &self.nodes {
-                    Some(xs) => xs[node],
-                    None if node == self.elements => self.params.length,
-                    None => self.params.length * node as f64 / self.elements as f64,
-                }
-            })
-            .collect()
+        match &self.nodes {
+            Some(xs) => (0..=n).map(|k| xs[k * per]).collect(),
+            None => uniform_bounds(self.params.length, self.elements, n),
+        }
     }
 
     /// Segment `k` of this body as a body of its own (see the module's

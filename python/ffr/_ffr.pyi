@@ -67,8 +67,10 @@ class Scene:
     def static(self, steps: Optional[int] = None) -> "Static":
         """The static equilibrium under the scene's loads at t = 0 with the
         GIL released, as ``ffr static --json``: ``outputs`` (each output's
-        value), ``steps`` (load increments used) and ``iterations``
-        (Newton iterations). ``steps=K`` takes K equal load increments
+        value), ``steps`` (load increments used), ``iterations``
+        (Newton iterations) and ``warnings`` (each also issued once as a
+        RuntimeWarning), plus ``rotations`` (each flexible body's largest
+        elastic rotation there). ``steps=K`` takes K equal load increments
         (default: automatic). Raises SimulationError if there is no
         equilibrium (a mechanism, an unstable state, no convergence)."""
 
@@ -85,6 +87,12 @@ class RunResult:
     splits: int
     #: Wall time of the simulation (s), as the library measures it.
     wall: float
+    #: A body turned past what one floating frame describes, as ``ffr run``
+    #: prints it (each also issued once as a RuntimeWarning).
+    warnings: List[str]
+    #: Each flexible body's largest elastic section rotation over the run.
+    @property
+    def rotations(self) -> List[Rotation]: ...
     def keys(self) -> List[str]: ...
     def __getitem__(self, name: str) -> FloatArray: ...
     def __contains__(self, name: str) -> bool: ...
@@ -136,10 +144,26 @@ class Campbell(TypedDict):
     modes: List[List[CampbellMode]]
     warnings: List[str]
 
+class Rotation(TypedDict):
+    """A flexible body's largest elastic section rotation (rad) relative
+    to its (segment's) frame, when (s) and where on the whole body's axis
+    (m); ``segment`` is 1-based of the body's ``segments``."""
+
+    body: str
+    segment: int
+    segments: int
+    angle: float
+    t: float
+    x: float
+
 class Static(TypedDict):
     outputs: Dict[str, float]
     steps: int
     iterations: int
+    #: A body turned past what one floating frame describes (each also
+    #: issued once as a RuntimeWarning), as ``ffr static`` warns.
+    warnings: List[str]
+    rotations: List[Rotation]
 
 def invariants(
     shape: Optional[str] = None,

@@ -292,12 +292,16 @@ impl Scene {
                 r.t.last().copied().unwrap_or(0.0)
             )));
         }
+        warn_all(py, &r.warnings)?;
+        let rotations = rotations_list(py, &r.rotations)?.unbind();
         let columns = r
             .columns
             .into_iter()
             .map(|c| PyArray1::from_vec(py, c).unbind())
             .collect();
         Ok(RunResult {
+            warnings: r.warnings,
+            rotations,
             t: PyArray1::from_vec(py, r.t).unbind(),
             names: r.names,
             columns,
@@ -312,7 +316,10 @@ impl Scene {
 
     /// The static equilibrium under the scene's loads at t = 0 (the GIL
     /// released), as `ffr static --json` gives it: a dict `{"outputs":
-    /// {NAME: value, …}, "steps": K, "iterations": n}`. `steps = K` takes
+    /// {NAME: value, …}, "steps": K, "iterations": n, "warnings": [TEXT,
+    /// …]}`, plus `"rotations"` (each flexible body's largest elastic
+    /// section rotation there, as `RunResult.rotations`); each warning is
+    /// also issued once as a `RuntimeWarning`. `steps = K` takes
     /// K equal load increments (default: automatic). No equilibrium (a
     /// mechanism, an unstable state, no convergence) raises
     /// `SimulationError` with the command line's message.
@@ -341,6 +348,9 @@ impl Scene {
         out.set_item("outputs", outputs)?;
         out.set_item("steps", s.steps)?;
         out.set_item("iterations", s.iterations)?;
+        out.set_item("warnings", s.warnings.clone())?;
+        out.set_item("rotations", rotations_list(py, &s.rotations)?)?;
+        warn_all(py, &s.warnings)?;
         Ok(out)
     }
 
@@ -384,6 +394,16 @@ struct RunResult {
     /// Wall time of the simulation (s), as the library measures it.
     #[pyo3(get)]
     wall: f64,
+    /// Warnings about a valid result outside the model's accuracy (a body
+    /// that turned past what one floating frame describes), as `ffr run`
+    /// prints them; each was also issued once as a `RuntimeWarning`.
+    #[pyo3(get)]
+    warnings: Vec<String>,
+    /// Each flexible body's largest elastic section rotation over the run:
+    /// a list of dicts `{body, segment, segments, angle, t, x}` (angle in
+    /// rad relative to its segment's frame, when, where on the whole
+    /// body's axis; `segment` 1-based of `segments`).
+    rotations: Py<PyList>,
 }
 
 #[pymethods]
@@ -392,6 +412,12 @@ impl RunResult {
     #[getter]
     fn t(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
         self.t.clone_ref(py)
+    }
+
+    /// Each flexible body's largest elastic section rotation over the run.
+    #[getter]
+    fn rotations(&self, py: Python<'_>) -> Py<PyList> {
+        self.rotations.clone_ref(py)
     }
 
     /// The output names, in the scene's order.
@@ -433,6 +459,36 @@ impl RunResult {
             self.wall
         )
     }
+}
+
+/// Issue each warning once as a Python `RuntimeWarning` (pointing at the
+/// caller's line); with warnings turned into errors, the first raises.
+fn warn_all(py: Python<'_>, warnings: &[String]) -> PyResult<()> {
+    let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+    for w in warnings {
+        let text = std::ffi::CString::new(w.replace('\0', " ")).expect("no NUL left");
+        PyErr::warn(py, category.as_any(), &text, 1)?;
+    }
+    Ok(())
+}
+
+/// The largest elastic rotations as a list of dicts.
+fn rotations_list<'py>(
+    py: Python<'py>,
+    rotations: &[ffr::scene::frames::BodyRotation],
+) -> PyResult<Bound<'py, PyList>> {
+    let out = PyList::empty(py);
+    for r in rotations {
+        let d = PyDict::new(py);
+        d.set_item("body", &r.body)?;
+        d.set_item("segment", r.segment.0)?;
+        d.set_item("segments", r.segment.1)?;
+        d.set_item("angle", r.angle)?;
+        d.set_item("t", r.t)?;
+        d.set_item("x", r.x)?;
+        out.append(d)?;
+    }
+    Ok(out)
 }
 
 fn matrix<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArray2<f64>> {

@@ -202,9 +202,13 @@ def test_a_force_profile_is_set_by_its_keys():
     ramped.set("t_end", 0.1)
     full, part = s.run()["tip_x"], ramped.run()["tip_x"]
     assert full[-1] - 1.0 > part[-1] - 1.0 > 0.0
-    # Times that do not increase: the loader's located message.
+    # Times that do not increase: the loader's located message (on the
+    # file's table; `s` now has a `kind`, and a table beside it is refused
+    # as giving the profile twice).
     with pytest.raises(ffr.SceneError, match=r"l_frame\.toml:\d+:\d+: row 2 of the profile `table`: the time 0\.0 is not after"):
-        s.set("forces.0.profile.table", [[0.0, 0.0], [0.0, 1.0]])
+        ramped.set("forces.0.profile.table", [[0.0, 0.0], [0.0, 1.0]])
+    with pytest.raises(ffr.SceneError, match=r"`table` and `kind` both give the force's profile"):
+        s.set("forces.0.profile.table", [[0.0, 0.0], [1.0, 1.0]])
 
 
 def test_a_marker_is_set_as_a_string_or_a_table():

@@ -49,6 +49,29 @@ pub mod attr {
         pub e: f64,
     }
 
+    /// A spatial beam run as 4 segments of 2 elements
+    /// (`ThrownBeam::segments()` for `System::add_segments`): the type is
+    /// the whole body as one, the constructor splits it as the scene file
+    /// `scenes/thrown_segments.toml` does (tests/attribute_segments.rs).
+    #[ffr::flex_body(
+        shape = "beam3",
+        elements = 8,
+        segments = 4,
+        reference = "clamped",
+        stiffening = true
+    )]
+    #[derive(Clone, Copy, Debug)]
+    pub struct ThrownBeam {
+        pub length: f64,
+        pub rho: f64,
+        pub area: f64,
+        pub iy: f64,
+        pub iz: f64,
+        pub e: f64,
+        pub g: f64,
+        pub j: f64,
+    }
+
     /// The KRB spin-up beam on 16 elements reduced at build time to its 4
     /// lowest modes plus the static modes (8 modes in all), fourth-order
     /// stiffening: `SpinUpBeam16Modal::body()` runs the generated
@@ -82,6 +105,8 @@ pub mod attr {
 /// resolved scene as data).
 pub mod scenes {
     include!(concat!(env!("OUT_DIR"), "/two_links.rs"));
+    include!(concat!(env!("OUT_DIR"), "/spin_up_segments.rs"));
+    include!(concat!(env!("OUT_DIR"), "/spin_up_modal_segments.rs"));
     include!(concat!(env!("OUT_DIR"), "/builtin_free_floating.rs"));
     include!(concat!(env!("OUT_DIR"), "/builtin_pendulum.rs"));
     include!(concat!(env!("OUT_DIR"), "/builtin_precone.rs"));

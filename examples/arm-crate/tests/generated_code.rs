@@ -31,6 +31,22 @@ fn generated_code() {
             insta::assert_snapshot!("two_links.scene", &f.contents[at..]);
             continue;
         }
+        // Bodies run as segments: the header (which kernel sets, for
+        // which segments) and the kernel provider (which names run which
+        // kernels, which reduction each modal segment gets).
+        if f.name.ends_with("segments") {
+            let header = f.contents.split("\n\n").next().unwrap_or_default();
+            insta::assert_snapshot!(format!("{}.header", f.name), header);
+            let from = f
+                .contents
+                .find("/// The element kernels of the scene's flexible bodies.")
+                .expect("the provider follows the kernels");
+            let to = f.contents[from..]
+                .find("/// The scene `")
+                .expect("the scene type follows the provider");
+            insta::assert_snapshot!(format!("{}.provider", f.name), &f.contents[from..from + to]);
+            continue;
+        }
         // The built-in scenes are checked against the files they come from
         // (tests/compiled_scene.rs), not reviewed here.
         if f.name.starts_with("builtin_") {
