@@ -105,8 +105,8 @@ def test_static_exposes_its_warnings(ffr_bin, tmp_path):
     assert [str(w.message) for w in caught if w.category is RuntimeWarning] == r["warnings"]
     assert rot["body"] == "beam" and rot["angle"] > 0.27 and rot["t"] == 0.0
     # Split as the warnings advise until none is left (the advice assumes a
-    # segment's rotation shrinks with its length; the root segment of a
-    # cantilever under its weight turns more than that: 1 → 4 → 8 here).
+    # segment's rotation shrinks as its length to the power 0.58, as the
+    # root segment of the spin-up under gravity does).
     tried = [1]
     while r["warnings"]:
         m = re.search(r"try segments = (\d+)", r["warnings"][0])

@@ -110,12 +110,14 @@ pub fn warnings(scene: &Scene, rotations: &[BodyRotation]) -> Vec<String> {
 }
 
 /// The segments to try for a body of `elements` elements now run as `n`
-/// segments whose largest rotation is `angle`: a segment's rotation
-/// relative to its frame shrinks about in proportion to its length, so the
-/// least divisor `m` of `elements` with `angle · n / m` below the
-/// threshold; `None` when no divisor is enough.
+/// segments whose largest rotation is `angle`: the least divisor `m` of
+/// `elements` with `angle (n/m)^0.58` below the threshold (`None` when no
+/// divisor is enough). A segment's rotation relative to its frame shrinks
+/// with its length, but the root segment of a cantilever less than in
+/// proportion: on the spin-up under gravity 0.616, 0.513, 0.325, 0.183 rad
+/// for 1, 2, 4, 8 segments, `N^-0.58` (bench/segments/study.csv).
 fn suggest_segments(angle: f64, n: usize, elements: usize) -> Option<usize> {
-    let need = angle * n as f64 / SINGLE_FRAME_ROTATION;
+    let need = n as f64 * (angle / SINGLE_FRAME_ROTATION).powf(1.0 / 0.58);
     (n + 1..=elements.min(ffr_spec_max())).find(|&m| elements.is_multiple_of(m) && m as f64 >= need)
 }
 
@@ -129,12 +131,15 @@ mod tests {
 
     #[test]
     fn segments_are_suggested_as_divisors() {
-        // 0.9 rad on one frame: at least 3.3 segments, a divisor of 16.
-        assert_eq!(suggest_segments(0.9, 1, 16), Some(4));
-        // 0.5 rad per segment of 4: 7.4, so 8.
-        assert_eq!(suggest_segments(0.5, 4, 16), Some(8));
-        // 0.62 rad (the spin-up under gravity): 2.3, so 4.
-        assert_eq!(suggest_segments(0.62, 1, 16), Some(4));
+        // 0.9 rad on one frame: at least 7.9 segments, a divisor of 16.
+        assert_eq!(suggest_segments(0.9, 1, 16), Some(8));
+        // 0.5 rad per segment of 4: 11.5, so 16.
+        assert_eq!(suggest_segments(0.5, 4, 16), Some(16));
+        // 0.616 rad (the spin-up under gravity): 4.1, so 8 (which turns
+        // 0.183 rad, below the threshold; 4 segments still turn 0.325).
+        assert_eq!(suggest_segments(0.616, 1, 16), Some(8));
+        // 0.325 rad in 4 segments: 5.5, so 8.
+        assert_eq!(suggest_segments(0.325, 4, 16), Some(8));
         // No divisor of 3 is enough for 2 rad.
         assert_eq!(suggest_segments(2.0, 1, 3), None);
     }
