@@ -285,13 +285,18 @@ impl<'s, B: Body> Assembly<'s, B> {
             // differences of positions as large as its length and axes of
             // unit length: they are not known better than ε l and ε (a
             // constant floor; a body not run as segments keeps its own).
+            // Likewise its frame's rotation, set by the cut through unit
+            // axes: not better than ε.
             let segment = sys.segment_group(crate::marker::BodyId(i)).is_some();
             match lay.length {
                 Some(l) if l > 0.0 && l.is_finite() && b.nf > 0 => {
                     let (ct, cr) = if segment { (l, 1.0) } else { (0.0, 0.0) };
                     class_link.extend([
                         ClassLink::default(),
-                        ClassLink::default(),
+                        ClassLink {
+                            link: None,
+                            constant: cr,
+                        },
                         ClassLink {
                             link: Some((base + 3, l)),
                             constant: ct,
