@@ -501,7 +501,7 @@ fn turning_bodies(spec: &SceneSpec, ji: usize) -> Vec<usize> {
 }
 
 /// Warnings for a Campbell diagram turning joint `ji` (0-based): each
-/// flexible body that turns with it (joined to its body, [`turning_bodies`])
+/// flexible body that turns with it (joined to its body, `turning_bodies`)
 /// without geometric stiffening, whose bending frequencies then cannot
 /// rise with the speed (no centrifugal stiffening, only spin softening):
 /// located at the body's table, saying what to do (`stiffening = true`;
