@@ -22,7 +22,7 @@
 //! `R` is orthonormal for every `θ_y² + θ_z² < 1` (a section turned by less
 //! than 90° from its frame), and `R = I + ψ̃ + O(ψ²)`, the linearized
 //! `c + ψ × c` the markers used before. Its derivatives by `ψ` are exact
-//! (second-order forward differentiation, [`Jet`]).
+//! (second-order forward differentiation, `Jet`).
 
 use nalgebra::{Matrix3, Vector3};
 
