@@ -118,11 +118,8 @@ pub fn warnings(scene: &Scene, rotations: &[BodyRotation]) -> Vec<String> {
 /// for 1, 2, 4, 8 segments, `N^-0.58` (bench/segments/study.csv).
 fn suggest_segments(angle: f64, n: usize, elements: usize) -> Option<usize> {
     let need = n as f64 * (angle / SINGLE_FRAME_ROTATION).powf(1.0 / 0.58);
-    (n + 1..=elements.min(ffr_spec_max())).find(|&m| elements.is_multiple_of(m) && m as f64 >= need)
-}
-
-fn ffr_spec_max() -> usize {
-    crate::runtime::spec::MAX_SEGMENTS
+    (n + 1..=elements.min(crate::runtime::spec::MAX_SEGMENTS))
+        .find(|&m| elements.is_multiple_of(m) && m as f64 >= need)
 }
 
 #[cfg(test)]
