@@ -161,6 +161,89 @@ pub fn check_not_inputs(
     Ok(())
 }
 
+/// Refuse an output that would replace a file of the ParaView series the
+/// same command writes into `dir` (`DIR/STEM….pvd`, `DIR/STEM_….vtp`, see
+/// docs/vtk.md): `ffr run s.toml --vtk out --csv out/s_0001.vtp`.
+/// `outputs` are `(flag, path)`.
+pub fn check_not_in_series(
+    outputs: &[(&str, &Path)],
+    dir: &Path,
+    stem: &str,
+) -> Result<(), OutputError> {
+    let series_dir = normalized(&dir.join("x"));
+    let series_dir = series_dir.parent();
+    for (flag, out) in outputs {
+        let n = normalized(out);
+        let name = n
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let ext = n.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if n.parent() == series_dir
+            && name.starts_with(stem)
+            && (ext.eq_ignore_ascii_case("vtp") || ext.eq_ignore_ascii_case("pvd"))
+        {
+            return Err(error(
+                out,
+                format!("{flag} would replace a file of the --vtk series in the same directory: give another path"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuse to replace a file in a directory a command was given (`linearize
+/// --out DIR`) unless ffr wrote it: an existing file must be a regular file
+/// (a symbolic link is not followed out of the directory) whose contents
+/// start with `mark`, the line every such file of ffr's starts with. A path
+/// that does not exist yet is fine. `flag` names the option in messages.
+pub fn check_marked(path: &Path, mark: &[u8], flag: &str) -> Result<(), OutputError> {
+    use std::io::Read;
+    let meta = match std::fs::symlink_metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(error(path, format!("cannot be examined: {e}"))),
+        Ok(m) => m,
+    };
+    let t = meta.file_type();
+    if t.is_symlink() {
+        return Err(error(
+            path,
+            format!("is a symbolic link: {flag} does not follow links out of its directory; remove it or give another directory"),
+        ));
+    }
+    if !t.is_file() {
+        return Err(error(
+            path,
+            format!("is {}, not a file ffr wrote: {flag} replaces only its own files; remove it or give another directory", kind_of(&t)),
+        ));
+    }
+    let mut head = Vec::with_capacity(mark.len());
+    std::fs::File::open(path)
+        .and_then(|f| f.take(mark.len() as u64).read_to_end(&mut head))
+        .map_err(|e| error(path, format!("cannot be read: {e}")))?;
+    if head != mark {
+        return Err(error(
+            path,
+            format!("exists and was not written by ffr: {flag} replaces only its own files; remove it or give another directory"),
+        ));
+    }
+    Ok(())
+}
+
+/// [`check_not_inputs`] against the files a scene is read from
+/// (`ffr::scene::Scene::input_files`: the scene file, shape files, section
+/// tables, FE files).
+pub fn check_not_scene_files(
+    outputs: &[(&str, &Path)],
+    files: &[PathBuf],
+) -> Result<(), OutputError> {
+    let inputs: Vec<(&str, &Path)> = files
+        .iter()
+        .map(|p| ("a file the scene is read from", p.as_path()))
+        .collect();
+    check_not_inputs(outputs, &inputs)
+}
+
 /// What a file that is not a regular file is, for messages.
 fn kind_of(t: &std::fs::FileType) -> &'static str {
     if t.is_dir() {

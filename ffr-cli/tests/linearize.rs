@@ -508,9 +508,14 @@ fn json_shape_and_matrix_market_files() {
             assert!((x - y).abs() <= 4.0 * f64::EPSILON * x.abs(), "{x} {y}");
         }
     }
-    let back: serde_json::Value =
+    let mut back: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("linear.json")).unwrap())
             .unwrap();
+    // The file is the JSON object with ffr's mark as its first key.
+    assert_eq!(
+        back.as_object_mut().unwrap().remove("written_by"),
+        Some(serde_json::Value::from("ffr linearize"))
+    );
     assert_eq!(back, js);
     // The text summary ends with the stiffest mode and the RK4 step it allows.
     let (ok, out, err) = ffr(&["linearize", scene]);

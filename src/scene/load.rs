@@ -43,6 +43,21 @@ pub fn load_spec(path: &Path) -> crate::Result<crate::scene::SceneSpec> {
     Ok(crate::codegen::scene::resolve_str(&text, &file, &base).map_err(scene_error)?)
 }
 
+/// The files the scene `spec` is read from ([`crate::scene::input_files`]).
+pub fn spec_input_files(spec: &crate::scene::SceneSpec) -> Vec<PathBuf> {
+    use crate::runtime::spec::scene::BodyKind;
+    let mut flex = Vec::new();
+    let mut fe = Vec::new();
+    for b in &spec.bodies {
+        match &b.kind {
+            BodyKind::Flexible(f) => flex.push(f.clone()),
+            BodyKind::Fe(f) => fe.push(f.clone()),
+            BodyKind::Rigid { .. } => {}
+        }
+    }
+    crate::scene::input_files(&spec.origin, &flex, &fe)
+}
+
 /// Load a scene from its text; `file` names it in errors, `base` resolves
 /// relative shape paths.
 pub fn from_str(

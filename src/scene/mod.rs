@@ -42,7 +42,7 @@ pub use build::build;
 pub use edit::{SceneText, SceneValue};
 #[cfg(feature = "scene-files")]
 pub use load::{from_str, load, load_with};
-pub use model::{EnergyPart, Output, OutputKind, Scene, MAX_RECORDED_VALUES};
+pub use model::{input_files, EnergyPart, Output, OutputKind, Scene, MAX_RECORDED_VALUES};
 pub use provider::KernelProvider;
 #[cfg(feature = "scene-files")]
 pub use provider::{DefaultKernels, GeneralKernels};

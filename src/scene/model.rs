@@ -47,7 +47,46 @@ pub struct Scene {
     pub notes: Vec<String>,
 }
 
+/// The files a scene is read from: the scene file, its shape files, section
+/// tables, and FE node and matrix files (as resolved against the scene's
+/// directory), each once, in the order met. Commands refuse an output that
+/// would replace one of them.
+pub fn input_files(
+    origin: &str,
+    flex: &[FlexSpec],
+    fe: &[crate::runtime::spec::scene::FeSpec],
+) -> Vec<std::path::PathBuf> {
+    let mut files: Vec<std::path::PathBuf> = Vec::new();
+    let mut add = |f: &str| {
+        let p = std::path::PathBuf::from(f);
+        if !f.is_empty() && !files.contains(&p) {
+            files.push(p);
+        }
+    };
+    add(origin);
+    for f in flex {
+        // A built-in shape keeps its name; a shape file is resolved to a path.
+        if f.shape != f.shape_name || std::path::Path::new(&f.shape).is_file() {
+            add(&f.shape);
+        }
+        if let Some(t) = &f.sections {
+            add(&t.at.file);
+        }
+    }
+    for b in fe {
+        add(&b.nodes);
+        add(&b.mass);
+        add(&b.stiffness);
+    }
+    files
+}
+
 impl Scene {
+    /// The files this scene was read from ([`input_files`]).
+    pub fn input_files(&self) -> Vec<std::path::PathBuf> {
+        input_files(&self.origin, &self.flex, &self.fe)
+    }
+
     /// The flexible body `name` (its id in the system and how it was
     /// made); a rigid or unknown body is an error naming the flexible ones,
     /// prefixed with the scene's file.

@@ -109,7 +109,11 @@ pub fn linear_json(m: &LinearModel) -> Value {
     })
 }
 
-/// A matrix in Matrix Market coordinate format (`real general`, 1-based,
+/// The first line of the Matrix Market files `linearize --out` writes.
+const MTX_HEADER: &str = "%%MatrixMarket matrix coordinate real general\n";
+
+/// A matrix in Matrix Market coordinate format (`real general`, ffr's mark
+/// line [`MTX_MARK`] after the header, 1-based,
 /// the non-zero entries in column-major order, numbers in shortest
 /// round-trip form).
 pub fn matrix_market(m: &DMatrix<f64>, comment: &str) -> String {
@@ -122,7 +126,7 @@ pub fn matrix_market(m: &DMatrix<f64>, comment: &str) -> String {
             }
         }
     }
-    let mut s = String::from("%%MatrixMarket matrix coordinate real general\n");
+    let mut s = format!("{MTX_HEADER}{MTX_MARK}");
     for line in comment.lines() {
         s.push_str("% ");
         s.push_str(line);
@@ -174,9 +178,31 @@ pub fn linearize(args: &LinearizeArgs) -> Result<LinearModel, Box<dyn Error>> {
     Ok(model)
 }
 
+/// The line after the header of every Matrix Market file `linearize --out`
+/// writes: `--out` replaces an existing `X.mtx` only if it has it.
+pub const MTX_MARK: &str = "% written by ffr linearize; ffr may replace it\n";
+
+/// How every `linear.json` that `linearize --out` writes starts (its first
+/// key): `--out` replaces an existing one only if it starts so.
+pub const JSON_MARK: &str = "{\"written_by\":\"ffr linearize\",";
+
+/// `linear_json` as `linearize --out` writes it: [`JSON_MARK`] first, then
+/// the object's keys.
+fn marked_json(js: &Value) -> Result<String, Box<dyn Error>> {
+    let body = serde_json::to_string(js)?;
+    let rest = body.strip_prefix('{').ok_or("linear.json: not an object")?;
+    Ok(if rest == "}" {
+        format!("{}}}", JSON_MARK.trim_end_matches(','))
+    } else {
+        format!("{JSON_MARK}{rest}")
+    })
+}
+
+/// Write the matrices and `linear.json` into `dir`. The directory holds
+/// only files ffr marked: an existing file of these names is replaced only
+/// if ffr wrote it ([`output::check_marked`]; a symbolic link is not
+/// followed, a foreign file is refused before anything is written).
 fn write_dir(dir: &Path, m: &LinearModel, js: &Value) -> Result<(), Box<dyn Error>> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| format!("--out {}: cannot create the directory: {e}", dir.display()))?;
     let names = |v: &[String]| v.join(" ");
     let files = [
         (
@@ -204,12 +230,22 @@ fn write_dir(dir: &Path, m: &LinearModel, js: &Value) -> Result<(), Box<dyn Erro
             "D.mtx",
             matrix_market(&m.d, "D: rows the outputs, columns the inputs"),
         ),
-        ("linear.json", serde_json::to_string(js)?),
+        ("linear.json", marked_json(js)?),
     ];
     let paths: Vec<(PathBuf, &str)> = files
         .iter()
         .map(|(n, s)| (dir.join(n), s.as_str()))
         .collect();
+    for (p, _) in &paths {
+        let mark = if p.extension().is_some_and(|e| e == "mtx") {
+            format!("{MTX_HEADER}{MTX_MARK}")
+        } else {
+            JSON_MARK.to_string()
+        };
+        output::check_marked(p, mark.as_bytes(), "--out")?;
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| format!("--out {}: cannot create the directory: {e}", dir.display()))?;
     let list: Vec<(&Path, &[u8])> = paths
         .iter()
         .map(|(p, s)| (p.as_path(), s.as_bytes()))
@@ -290,13 +326,20 @@ pub fn campbell(args: &CampbellArgs) -> Result<Campbell, Box<dyn Error>> {
         output::check_output(p, "--svg")?;
     }
     let spec = ffr::scene::load::load_spec(&args.scene)?;
+    let stem = ffr::scene::vtk::scene_stem(&args.scene.display().to_string());
+    if let Some(p) = &args.svg {
+        let written: [(&str, &Path); 1] = [("--svg", p)];
+        output::check_not_scene_files(&written, &ffr::scene::load::spec_input_files(&spec))?;
+        if let Some(dir) = &args.vtk {
+            output::check_not_in_series(&written, dir, &stem)?;
+        }
+    }
     // What the diagram may not show, once, before it is computed.
     let ji = ffr::scene::linear::campbell_joint(&spec, args.joint.map(|j| j - 1))
         .map_err(|e| located(&args.scene, e))?;
     for w in ffr::scene::linear::stiffening_warnings(&spec, ji) {
         eprintln!("warning: {w}");
     }
-    let stem = ffr::scene::vtk::scene_stem(&args.scene.display().to_string());
     let speed_name = |i: usize| {
         let w = args.speeds.len().to_string().len().max(2);
         format!("{stem}_speed{:0w$}", i + 1)

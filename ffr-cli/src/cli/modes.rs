@@ -454,6 +454,7 @@ pub fn export(
     let (description, basis, e) = match (&from_scene.scene, &from_scene.body_name) {
         (Some(path), Some(name)) => {
             let scene = ffr::scene::load(path)?;
+            output::check_not_scene_files(&[("--out", out)], &scene.input_files())?;
             match fe_from_scene(&scene, name)? {
                 Some(fe) => {
                     let basis = fe_basis(&fe, count, boundary, "--modes")?;

@@ -24,6 +24,20 @@ pub fn run_scene(
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let (csv, svg) = outputs(csv, svg, &tag)?;
+    // Outputs replace neither an input (the scene's files, the reference)
+    // nor a file of the VTK series written in the same run.
+    let written: [(&str, &Path); 2] = [("--csv", &csv), ("--svg", &svg)];
+    output::check_not_scene_files(&written, &scene.input_files())?;
+    if let Some(p) = reference {
+        output::check_not_inputs(&written, &[("the --reference file", p)])?;
+    }
+    if let Some(v) = &vtk {
+        output::check_not_in_series(
+            &written,
+            &v.dir,
+            &ffr::scene::vtk::scene_stem(&scene.origin),
+        )?;
+    }
     // A reference is read and matched before the run.
     let reference = match reference {
         Some(p) => Some(read_reference(p, &scene)?),

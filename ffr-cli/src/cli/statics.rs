@@ -74,6 +74,9 @@ pub fn static_scene(args: &StaticArgs) -> Result<SceneStatic, Box<dyn Error>> {
         output::check_not_inputs(&[("--csv", p)], &[("the scene file", &args.scene)])?;
     }
     let scene = ffr::scene::load(&args.scene)?;
+    if let Some(p) = &args.csv {
+        output::check_not_scene_files(&[("--csv", p)], &scene.input_files())?;
+    }
     let options = StaticOptions { steps: args.steps };
     let s = ffr::scene::statics::solve(&scene, &options).map_err(|e| located(&args.scene, e))?;
     for w in &s.warnings {
