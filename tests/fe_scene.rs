@@ -302,6 +302,13 @@ fn fe_scene_misuses_are_located_errors() {
             15,
             "`reference` is \"clamped\"",
         ),
+        // An interface on a free body did nothing, silently (issue 36).
+        (
+            "reference = \"clamped\"",
+            "reference = \"free\"",
+            16,
+            "a free body (`reference = \"free\"`) keeps every node free and has no interface: remove `interface`",
+        ),
         ("modes = 12", "", 14, "needs `modes = K`"),
         (
             "modes = 12",
@@ -328,7 +335,7 @@ fn fe_scene_misuses_are_located_errors() {
             "boundary node 1 is an interface node",
         ),
         (
-            "reference = \"clamped\"",
+            "reference = \"clamped\"\ninterface = [0, 1, 2, 33, 34, 35, 66, 67, 68]",
             "reference = \"free\"\nreduction = \"craig-bampton\"",
             16,
             "Craig–Bampton on a free FE body is not available",
@@ -426,7 +433,8 @@ fn node_markers_free_reference_and_craig_bampton_run() {
             text.replace(
                 "reference = \"clamped\"",
                 "reference = \"free\"\nstatic_modes = false",
-            ),
+            )
+            .replace("interface = [0, 1, 2, 33, 34, 35, 66, 67, 68]", ""),
             "free",
         ),
     ] {

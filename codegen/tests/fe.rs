@@ -565,7 +565,7 @@ fn hostile_matrix_files_are_refused_with_located_errors() {
         (
             "nan",
             good.replacen("4 4 3e0", "4 4 NaN", 1),
-            "_mass.mtx:7:1: mass matrix entry (4, 4) is NaN",
+            "_mass.mtx:7:5: mass matrix entry (4, 4) is NaN (`NaN`): NaN is not a finite number",
         ),
         (
             "inf",
@@ -599,12 +599,12 @@ fn hostile_matrix_files_are_refused_with_located_errors() {
         (
             "glued_index",
             good.replacen("4 4 3e0", "4 99999999999999999999999.5", 1),
-            "_mass.mtx:7:3: column index `99999999999999999999999` out of range",
+            "_mass.mtx:7:1: an entry is `row column value`, three fields; found 2",
         ),
         (
             "glued_row",
             good.replacen("4 4 3e0", "99999999999999999999999.5 4 3e0", 1),
-            "_mass.mtx:7:1: row index `99999999999999999999999` out of range",
+            "_mass.mtx:7:1: row index `99999999999999999999999.5` is not a whole number",
         ),
         (
             "zero_index",
@@ -644,7 +644,7 @@ fn hostile_matrix_files_are_refused_with_located_errors() {
         (
             "garbage",
             good.replacen("4 4 3e0", "4 4 three", 1),
-            "not a valid Matrix Market mass matrix",
+            "_mass.mtx:7:5: mass matrix entry (4, 4): `three` is not a number",
         ),
         ("empty", String::new(), "is empty"),
         (
@@ -660,12 +660,33 @@ fn hostile_matrix_files_are_refused_with_located_errors() {
         (
             "half_exponent",
             good.replacen("4 4 3e0", "4 4 3e", 1),
-            "not a valid Matrix Market mass matrix",
+            "`3e` is not a number",
+        ),
+        // Issue 36: a line of terminal escapes reached the terminal raw in
+        // a 7-line parser dump; now one line, escaped.
+        (
+            "escapes",
+            good.replacen("4 4 3e0", "4 4 \u{1b}]0;owned\u{7}\u{1b}[2J", 1),
+            "_mass.mtx:7:5: mass matrix entry (4, 4): `\\u{1b}]0;owned",
+        ),
+        (
+            "one_field",
+            good.replacen("4 4 3e0", "4", 1),
+            "_mass.mtx:7:1: an entry is `row column value`, three fields; found 1",
+        ),
+        (
+            "four_fields",
+            good.replacen("4 4 3e0", "4 4 3e0 1", 1),
+            "three fields; found 4 in `4 4 3e0 1`",
         ),
     ];
     for (tag, text, want) in cases {
         let e = err(load(tag, None, Some(&text), None));
         assert!(e.contains(want), "{tag}: {e}");
+        assert!(
+            !e.contains('\n') && !e.chars().any(|c| c.is_control()),
+            "{tag}: one line, no control characters: {e:?}"
+        );
     }
 }
 
@@ -739,6 +760,23 @@ fn indefinite_and_ill_formed_models_are_refused() {
         Some(&mtx_symmetric(&grounded)),
     ));
     assert!(e.contains("resists a rigid translation along x"), "{e}");
+    assert!(e.contains("grounded_stiffness.mtx"), "{e}");
+    // A node file whose rows are not K's nodes (two nodes swapped): K is
+    // free in translation, so the node file is to blame, not supports in K
+    // (issue 36: the message named K and said to export without supports).
+    let mut swapped = nodes.clone();
+    swapped.swap(0, 4);
+    let e = err(load("swapped", Some(&nodes_csv(&swapped)), None, None));
+    assert!(
+        e.starts_with(&format!(
+            "{}: the nodes do not match the stiffness matrix: K is free in translation but resists the rigid rotation about",
+            Path::new(env!("CARGO_TARGET_TMPDIR"))
+                .join("fe/swapped_nodes.csv")
+                .display()
+        )),
+        "{e}"
+    );
+    assert!(!e.contains("without supports"), "{e}");
     // Unequal direction blocks and coupled directions.
     let mut m = lumped_mass();
     m[(1, 1)] = 2.5;

@@ -2,14 +2,16 @@
 //! with `nalgebra-sparse`'s reader into a dense symmetric matrix, checked.
 //!
 //! The reader parses the file; before it runs, a scan of the lines checks
-//! what the reader would take on trust: the banner (coordinate real
-//! symmetric/general only), the declared size (against the order the node
-//! file implies and [`MAX_FE_ORDER`]) and number of entries, and that every
-//! integer index fits and lies in range (the reader unwraps a parse of each
-//! integer into `usize` and multiplies row and column indices: an index of
-//! 25 digits would panic). The scan also records each entry's line, so the
-//! checks after reading (finite values, repeated entries, symmetry of a
-//! `general` file) name it.
+//! what the reader would take on trust or refuse with a multi-line parser
+//! dump: the banner (coordinate real symmetric/general only), the declared
+//! size (against the order the node file implies and [`MAX_FE_ORDER`]) and
+//! number of entries, and every entry line: three fields `row column
+//! value`, whole-number indices in range (the reader unwraps a parse of
+//! each integer into `usize` and multiplies row and column indices: an
+//! index of 25 digits would panic), a finite value (`NaN`: "NaN is not a
+//! finite number"). Each refusal is one line at `file:line:column`, user
+//! text escaped. The scan also records each entry's line, so the checks
+//! after reading (repeated entries, symmetry of a `general` file) name it.
 
 use super::{FeError, MAX_FE_ORDER};
 use nalgebra::DMatrix;
@@ -47,28 +49,23 @@ fn is_integer(t: &str) -> bool {
     !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit())
 }
 
-/// The (at most) two leading runs of ASCII digits of an entry line, with
-/// their columns (from 1), as the reader's grammar takes them for the row
-/// and column indices: spaces and tabs, a maximal digit run, spaces and
-/// tabs, a maximal digit run (its `Dimension` is greedy and its implicit
-/// whitespace may be empty, so `3 4.5` is the entry (3, 4) = 0.5). Stops at
-/// the first run that is missing.
-fn leading_indices(line: &str) -> Vec<(usize, &str)> {
-    let bytes = line.as_bytes();
-    let mut at = 0;
+/// The whitespace-separated fields of a line, each with its column (from
+/// 1, in characters).
+fn fields(line: &str) -> Vec<(usize, &str)> {
     let mut out = Vec::new();
-    while out.len() < 2 {
-        while at < bytes.len() && (bytes[at] == b' ' || bytes[at] == b'\t') {
-            at += 1;
+    let mut start = None;
+    for (i, ch) in line.char_indices() {
+        match (ch.is_whitespace(), start) {
+            (false, None) => start = Some(i),
+            (true, Some(b)) => {
+                out.push((line[..b].chars().count() + 1, &line[b..i]));
+                start = None;
+            }
+            _ => {}
         }
-        let from = at;
-        while at < bytes.len() && bytes[at].is_ascii_digit() {
-            at += 1;
-        }
-        if at == from {
-            break;
-        }
-        out.push((line[..from].chars().count() + 1, &line[from..at]));
+    }
+    if let Some(b) = start {
+        out.push((line[..b].chars().count() + 1, &line[b..]));
     }
     out
 }
@@ -163,9 +160,37 @@ fn scan(text: &str, file: &str, order: usize, what: &str) -> Result<Scan, FeErro
                 format!("more entries than the {nnz} the size line declares"),
             ));
         }
+        // Each entry is `row column value`, read here before the reader
+        // sees it: a located one-line error instead of its parser's dump.
+        let f = fields(l);
+        if f.len() != 3 {
+            return Err(FeError::at(
+                file,
+                line,
+                1,
+                format!(
+                    "an entry is `row column value`, three fields; found {} in `{}`",
+                    f.len(),
+                    super::excerpt(l.trim())
+                ),
+            ));
+        }
         let mut index = [0u64; 2];
-        for (k, (col, t)) in leading_indices(l).into_iter().enumerate() {
-            let v: u64 = t.parse().unwrap_or(u64::MAX);
+        for (k, &(col, t)) in f[..2].iter().enumerate() {
+            let v: u64 = if is_integer(t) {
+                t.parse().unwrap_or(u64::MAX)
+            } else {
+                return Err(FeError::at(
+                    file,
+                    line,
+                    col,
+                    format!(
+                        "{} index `{}` is not a whole number",
+                        ["row", "column"][k],
+                        super::excerpt(t)
+                    ),
+                ));
+            };
             if v == 0 || v > n {
                 return Err(FeError::at(
                     file,
@@ -179,6 +204,36 @@ fn scan(text: &str, file: &str, order: usize, what: &str) -> Result<Scan, FeErro
                 ));
             }
             index[k] = v;
+        }
+        let (col, t) = f[2];
+        match t.parse::<f64>() {
+            Ok(v) if v.is_finite() => {}
+            Ok(v) => {
+                return Err(FeError::at(
+                    file,
+                    line,
+                    col,
+                    format!(
+                        "{what} matrix entry ({}, {}) is {v} (`{}`): {v} is not a finite number",
+                        index[0],
+                        index[1],
+                        super::excerpt(t),
+                    ),
+                ))
+            }
+            Err(_) => {
+                return Err(FeError::at(
+                    file,
+                    line,
+                    col,
+                    format!(
+                        "{what} matrix entry ({}, {}): `{}` is not a number",
+                        index[0],
+                        index[1],
+                        super::excerpt(t)
+                    ),
+                ))
+            }
         }
         if storage == Storage::Symmetric && index[1] > index[0] {
             return Err(FeError::at(
@@ -238,12 +293,14 @@ pub fn read_matrix_str(
     order: usize,
 ) -> Result<(DMatrix<f64>, Storage), FeError> {
     let scan = scan(text, shown, order, what)?;
+    // The scan read every entry; a refusal of the reader still left is
+    // given as the first line of its message, escaped.
     let coo = load_coo_from_matrix_market_str::<f64>(text).map_err(|e| {
         FeError::file(
             shown,
             format!(
                 "not a valid Matrix Market {what} matrix: {}",
-                e.message().trim()
+                super::excerpt(e.message().trim().lines().next().unwrap_or(""))
             ),
         )
     })?;

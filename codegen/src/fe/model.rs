@@ -57,6 +57,10 @@ pub(crate) fn dof_name(d: usize) -> String {
     format!("{}_{}", DIRECTIONS[d % 3], d / 3)
 }
 
+/// How the refusal of a node file that does not describe the stiffness
+/// matrix's model starts ([`FeModel::load`] puts the node file in front).
+const NODES_MISMATCH: &str = "the nodes do not match the stiffness matrix";
+
 impl FeModel {
     /// Read and check the three files (each path is shown as given).
     pub fn load(nodes: &Path, mass: &Path, stiffness: &Path) -> Result<Self, FeError> {
@@ -67,7 +71,10 @@ impl FeModel {
         let order = 3 * xs.len();
         let (m, _) = super::read_matrix(mass, &mass_file, "mass", order)?;
         let (k, _) = super::read_matrix(stiffness, &stiffness_file, "stiffness", order)?;
-        Self::new(xs, m, k, &mass_file, &stiffness_file)
+        Self::new(xs, m, k, &mass_file, &stiffness_file).map_err(|e| match e {
+            FeError::Model(m) if m.starts_with(NODES_MISMATCH) => FeError::file(&node_file, m),
+            e => e,
+        })
     }
 
     /// A model from its parts; `mass_file` and `stiffness_file` name the
@@ -225,18 +232,30 @@ impl FeModel {
         let k = &self.stiffness;
         let kn = k.norm();
         let names = ["x", "y", "z"];
+        // A translation does not depend on the nodes: K resisting one has
+        // supports. A rotation is built from the node file's coordinates:
+        // K free in translation but resisting a rotation is a node file
+        // that does not describe K's model (node order, coordinates), or
+        // supports against rotation alone.
         for (j, col) in r.column_iter().enumerate() {
             let res = (k * col).norm();
             if res > RIGID_TOL * kn {
-                return Err(FeError::file(
-                    file,
-                    format!(
-                        "the stiffness matrix resists a rigid {} {} (‖K r‖/(‖K‖ ‖r‖) = {:e} > {RIGID_TOL:e}, RIGID_TOL): export the FE model without supports",
-                        if j < 3 { "translation along" } else { "rotation about" },
+                return Err(if j < 3 {
+                    FeError::file(
+                        file,
+                        format!(
+                            "the stiffness matrix resists a rigid translation along {} (‖K r‖/(‖K‖ ‖r‖) = {:.3e} > {RIGID_TOL:e}, RIGID_TOL): export the FE model without supports",
+                            names[j],
+                            res / kn
+                        ),
+                    )
+                } else {
+                    FeError::Model(format!(
+                        "{NODES_MISMATCH}: K is free in translation but resists the rigid rotation about {} through these nodes (‖K r‖/(‖K‖ ‖r‖) = {:.3e} > {RIGID_TOL:e}, RIGID_TOL); check that row i of the node file is node i of the matrices (the same order and coordinates), or remove supports against rotation",
                         names[j % 3],
                         res / kn
-                    ),
-                ));
+                    ))
+                });
             }
         }
         let z = complement(&r);

@@ -350,6 +350,12 @@ fn fe_body(
             out
         }
     };
+    if let (true, Some(v)) = (free, &rb.interface) {
+        return Err(c.err(
+            v.span(),
+            format!("FE body `{name}`: `interface` names the nodes a clamped body's frame is fixed to; a free body (`reference = \"free\"`) keeps every node free and has no interface: remove `interface`, or use `reference = \"clamped\"`"),
+        ));
+    }
     if !free && interface.is_empty() {
         return Err(c.err(
             rb.interface.as_ref().map_or(fe.span(), |v| v.span()),
