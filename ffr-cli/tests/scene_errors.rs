@@ -552,6 +552,24 @@ fn degenerate_forces_overflows_and_long_strings_are_located_and_short() {
     let again = format!("\"{long}\" # again");
     let long_kind = edit("kind = \"point\"", &format!("kind = \"{long}\""));
     let cases: Vec<(String, &str, Vec<&str>)> = vec![
+        // Issue 36: numbers in messages in short form (was `x = 1000…`
+        // with 309 digits), subnormal values refused by name (were "singular
+        // mass system… redundant constraints", blaming a joint).
+        (
+            edit("at = \"rod@x=0.5\"", "at = \"rod@x=1e308\""),
+            "\"rod@x=1e308\"",
+            vec!["x = 1e308 is not on the body's axis", "to x = 1 m"],
+        ),
+        (
+            edit("rho = 2700.0", "rho = 1e-310"),
+            "{ length",
+            vec!["parameter `rho` is subnormal, found 1e-310", "smallest normal f64"],
+        ),
+        (
+            edit("mass = 0.5", "mass = 1e-310"),
+            "1e-310",
+            vec!["`mass` = 1e-310 is subnormal"],
+        ),
         // A spring from a marker to itself.
         (
             force("kind = \"spring-damper\"\na = \"rod@x=0.5\"\nb = \"rod@x=0.5\"\nstiffness = 10.0\nrest_length = 0.0"),

@@ -18,6 +18,7 @@ use crate::kernel::{
     invariant_layout, CompiledBody, ElementKernels, KernelInput, MassOut, ResidualOut, TangentOut,
 };
 use ffr_spec::scene::Station;
+use ffr_spec::text::Num;
 use ffr_spec::{AttachedMass, Mesh, Params, Reference, SectionProp};
 
 const REMOVED: usize = usize::MAX;
@@ -131,8 +132,9 @@ impl<K: ElementKernels> KernelBody<K> {
         let length = stations[stations.len() - 1].x;
         if stations[0].x != 0.0 || !(length.is_finite() && length > 0.0) {
             return Err(bad(format!(
-                "a section table runs from x = 0 to the body's length, found x = {} to {length}",
-                stations[0].x
+                "a section table runs from x = 0 to the body's length, found x = {} to {}",
+                Num(stations[0].x),
+                Num(length)
             )));
         }
         let wanted = kernels.section_moments().to_vec();
@@ -802,7 +804,9 @@ impl<K: ElementKernels> Body for KernelBody<K> {
         let tol = 1e-12 * length;
         if !(x.is_finite() && x >= -tol && x <= length + tol) {
             return Err(Error::InvalidInput(format!(
-                "x = {x} is not on the body's axis: it runs from x = 0 to x = {length} m"
+                "x = {} is not on the body's axis: it runs from x = 0 to x = {} m",
+                Num(x),
+                Num(length)
             )));
         }
         let x = x.clamp(0.0, length);

@@ -177,7 +177,8 @@ impl Body for RigidBody {
 
     fn point_shape(&self, x: f64) -> Result<PointShape> {
         Err(Error::InvalidInput(format!(
-            "a rigid body has no axis to place a point at x = {x} on: give the point's body-frame position instead"
+            "a rigid body has no axis to place a point at x = {} on: give the point's body-frame position instead",
+            ffr_spec::text::Num(x)
         )))
     }
 }

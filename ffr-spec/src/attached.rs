@@ -7,6 +7,7 @@
 //! with the section's displacement `s` and its small rotation `ψ`:
 //! `S(d) = S_P + ψ̃_P d` (`docs/theory.md`, "Attached masses").
 
+use crate::text::Num;
 use std::fmt;
 
 /// A mass attached on a beam's axis (see the module documentation).
@@ -66,8 +67,9 @@ impl AttachedMass {
         let tol = 1e-12 * length.abs();
         if !(self.x >= -tol && self.x <= length + tol) {
             return bad(format!(
-                "x = {} is not on the body's axis: it runs from x = 0 to x = {length} m",
-                self.x
+                "x = {} is not on the body's axis: it runs from x = 0 to x = {} m",
+                Num(self.x),
+                Num(length)
             ));
         }
         if !(self.mass >= 0.0) {

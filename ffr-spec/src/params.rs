@@ -135,6 +135,12 @@ impl ParamError {
         let v = self.value;
         if !v.is_finite() {
             format!("must be finite, found {v}")
+        } else if v > 0.0 && !v.is_normal() {
+            format!(
+                "is subnormal, found {}: below {:e}, the smallest normal f64, products with it underflow to 0",
+                crate::text::Num(v),
+                f64::MIN_POSITIVE
+            )
         } else if v < 0.0 {
             if self.param.must_be_positive() {
                 format!("must be positive, found {v}")
@@ -219,9 +225,9 @@ impl Params {
         for (p, v) in Param::FIELDS.iter().zip(self.to_array()) {
             let ok = v.is_finite()
                 && if p.must_be_positive() {
-                    v > 0.0
+                    v.is_normal() && v > 0.0
                 } else {
-                    v >= 0.0
+                    v == 0.0 || (v.is_normal() && v > 0.0)
                 };
             if !ok {
                 return Err(ParamError {
@@ -239,7 +245,7 @@ impl Params {
     /// any value, 0 included.
     pub fn validate_only(&self, used: &[Param]) -> Result<(), ParamError> {
         for (p, v) in Param::FIELDS.iter().zip(self.to_array()) {
-            if used.contains(p) && !(v.is_finite() && v > 0.0) {
+            if used.contains(p) && !(v.is_normal() && v > 0.0) {
                 return Err(ParamError {
                     param: *p,
                     value: v,
@@ -253,6 +259,17 @@ impl Params {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn subnormal_values_are_refused_by_name() {
+        let p = Params::STEEL_BAR;
+        for bad in [Params { rho: 1e-310, ..p }, Params { iy: 1e-315, ..p }] {
+            let e = bad.validate().unwrap_err();
+            assert!(e.reason().starts_with("is subnormal, found 1e-3"), "{e}");
+            assert!(bad.validate_only(&[e.param]).is_err());
+        }
+        assert!(p.validate().is_ok());
+    }
 
     #[test]
     fn validation_names_the_parameter() {

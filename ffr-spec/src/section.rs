@@ -9,6 +9,7 @@
 //! uniform parameters (`ρ`, `A`, `I_y`, …): a term `c · ξ^k · P` of an
 //! element integral integrates to `c · μ_{P,k}` (theory: "Varying sections").
 
+use crate::text::Num;
 use std::fmt;
 
 /// A section resultant: a function of `x` along the beam, in body axes
@@ -154,14 +155,17 @@ pub fn element_moments(
     for (i, &(x, p)) in stations.iter().enumerate() {
         if !(x.is_finite() && p.is_finite()) {
             return Err(SectionError(format!(
-                "station {i} (x = {x}, value {p}) is not finite"
+                "station {i} (x = {}, value {}) is not finite",
+                Num(x),
+                Num(p)
             )));
         }
         if i > 0 && x <= stations[i - 1].0 {
             return Err(SectionError(format!(
-                "station {i} at x = {x} does not follow station {} at x = {}: stations must be strictly increasing in x",
+                "station {i} at x = {} does not follow station {} at x = {}: stations must be strictly increasing in x",
+                Num(x),
                 i - 1,
-                stations[i - 1].0
+                Num(stations[i - 1].0)
             )));
         }
     }

@@ -52,3 +52,50 @@ pub const MAX_QUOTED_CHARS: usize = 64;
 pub fn quoted(s: &str) -> String {
     snippet(s, MAX_QUOTED_CHARS)
 }
+
+/// The longest number, in characters, that [`Num`] writes in decimal form.
+pub const MAX_DECIMAL_CHARS: usize = 16;
+
+/// A number as messages show it: Rust's shortest decimal form (`1.5`,
+/// `0.001`, `2700`) when that is at most [`MAX_DECIMAL_CHARS`] characters,
+/// otherwise its shortest exponent form (`1e308`, not 309 digits; `1e-310`,
+/// not 312).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = self.0.to_string();
+        if s.chars().count() <= MAX_DECIMAL_CHARS {
+            f.write_str(&s)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
+#[cfg(test)]
+mod num_tests {
+    use super::Num;
+
+    #[test]
+    fn numbers_are_short_and_read_back() {
+        for (x, shown) in [
+            (1.0, "1"),
+            (1.5, "1.5"),
+            (2700.0, "2700"),
+            (1e308, "1e308"),
+            (-1e308, "-1e308"),
+            (1e-310, "1e-310"),
+            (0.1 + 0.2, "3.0000000000000004e-1"),
+            (f64::NAN, "NaN"),
+            (f64::INFINITY, "inf"),
+        ] {
+            let s = Num(x).to_string();
+            assert_eq!(s, shown);
+            if x.is_finite() {
+                assert_eq!(s.parse::<f64>().unwrap(), x, "{s} reads back");
+            }
+        }
+    }
+}

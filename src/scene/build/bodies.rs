@@ -189,6 +189,10 @@ pub(super) fn flexible(
                     ),
                 ));
             }
+            // A value the body uses that is not valid, at `params`.
+            f.params
+                .validate_only(used)
+                .map_err(|e| err(&f.params_at, format!("body `{name}`: {e}")))?;
             match &f.nodes {
                 None => KernelBody::new(kernels, f.params, f.elements, f.reference),
                 Some(nodes) => KernelBody::with_nodes(kernels, f.params, nodes, f.reference),

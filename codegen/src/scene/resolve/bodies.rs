@@ -8,6 +8,7 @@ use crate::scene::{FlexBodyModel, RawBody, RawFe, RawLabelled, RawScene};
 use ffr_spec::scene::{
     BodyKind, BodySpec, ElasticSpec, FeSpec, FlexSpec, ModalSettings, Orientation,
 };
+use ffr_spec::text::Num;
 use ffr_spec::{Param, Params, Reference};
 use std::ops::Range;
 use std::path::Path;
@@ -576,7 +577,7 @@ fn attached_masses(
         if !(0.0..=length).contains(&x) {
             return Err(c.err(
                 raw.x.span(),
-                format!("body `{name}`: the attached mass's x = {x} is not on the axis, which runs from x = 0 to x = {length} m"),
+                format!("body `{name}`: the attached mass's x = {} is not on the axis, which runs from x = 0 to x = {} m", Num(x), Num(length)),
             ));
         }
         let mass = fin_f64(c, &raw.mass, "mass")?;

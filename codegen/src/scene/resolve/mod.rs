@@ -43,7 +43,16 @@ impl Ctx<'_> {
 
 pub(crate) fn pos_f64(c: &Ctx, v: &Spanned<f64>, what: &str) -> Result<f64, Error> {
     let x = *v.get_ref();
-    if x.is_finite() && x > 0.0 {
+    if x.is_finite() && x > 0.0 && !x.is_normal() {
+        Err(c.err(
+            v.span(),
+            format!(
+                "`{what}` = {} is subnormal: below {:e}, the smallest normal f64, products with it underflow to 0",
+                ffr_spec::text::Num(x),
+                f64::MIN_POSITIVE
+            ),
+        ))
+    } else if x.is_finite() && x > 0.0 {
         Ok(x)
     } else {
         Err(c.err(
