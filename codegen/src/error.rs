@@ -30,7 +30,7 @@ pub enum Error {
         known: String,
     },
     /// A file that cannot be read or written.
-    #[error("{path}: {message}")]
+    #[error("{}: {message}", ffr_spec::text::path_text(path))]
     Io {
         /// The file.
         path: String,

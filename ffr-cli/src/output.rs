@@ -30,7 +30,12 @@ pub struct OutputError {
 
 impl fmt::Display for OutputError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {}", self.path.display(), self.message)
+        write!(
+            f,
+            "{}: {}",
+            ffr_spec::text::path_text(&self.path.display().to_string()),
+            self.message
+        )
     }
 }
 

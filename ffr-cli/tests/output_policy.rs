@@ -200,3 +200,24 @@ fn linearize_out_replaces_only_its_own_files_and_follows_no_link() {
     assert_eq!(js["written_by"], "ffr linearize");
     assert!(js["A"].is_array());
 }
+
+/// Paths in messages are cut in the middle (the file's name kept): a path
+/// of 6 000 characters was printed whole (issue 36).
+#[test]
+fn long_paths_in_messages_are_cut() {
+    let deep = format!("/nonexistent/{}x.csv", "p/".repeat(3000));
+    let (ok, _, err) = ffr(&["run", &scene("pendulum.toml"), "--csv", &deep]);
+    assert!(!ok);
+    assert!(
+        err.lines().count() == 1 && err.chars().count() < 400,
+        "{err}"
+    );
+    assert!(err.contains("p/x.csv: "), "{err}");
+    let missing = format!("/nonexistent/{}/scene.toml", "d".repeat(5000));
+    let (ok, _, err) = ffr(&["run", &missing]);
+    assert!(!ok);
+    assert!(
+        err.chars().count() < 400 && err.contains("ddd/scene.toml"),
+        "{err}"
+    );
+}

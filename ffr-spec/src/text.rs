@@ -99,3 +99,47 @@ mod num_tests {
         }
     }
 }
+
+/// The most characters of a path shown in a message; a longer one keeps
+/// its first [`PATH_HEAD_CHARS`] and its end (the file's name), with `…`
+/// between.
+pub const MAX_PATH_CHARS: usize = 160;
+
+/// Characters kept from the start of a path cut by [`path_text`].
+pub const PATH_HEAD_CHARS: usize = 48;
+
+/// A path as messages show it: escaped as [`snippet`] does, and at most
+/// [`MAX_PATH_CHARS`] characters, cut in the middle so that the file's
+/// name stays.
+pub fn path_text(path: &str) -> String {
+    let n = path.chars().count();
+    if n <= MAX_PATH_CHARS {
+        return snippet(path, usize::MAX);
+    }
+    let head: String = path.chars().take(PATH_HEAD_CHARS).collect();
+    let tail: String = path
+        .chars()
+        .skip(n - (MAX_PATH_CHARS - PATH_HEAD_CHARS - 1))
+        .collect();
+    format!(
+        "{}…{}",
+        snippet(&head, usize::MAX),
+        snippet(&tail, usize::MAX)
+    )
+}
+
+#[cfg(test)]
+mod path_tests {
+    use super::*;
+
+    #[test]
+    fn long_paths_are_cut_in_the_middle_and_keep_the_file_name() {
+        assert_eq!(path_text("scenes/a.toml"), "scenes/a.toml");
+        assert_eq!(path_text("a\nb"), "a\\nb");
+        let long = format!("/tmp/{}/{}/scene.toml", "d".repeat(3000), "e".repeat(3000));
+        let shown = path_text(&long);
+        assert_eq!(shown.chars().count(), MAX_PATH_CHARS);
+        assert!(shown.starts_with("/tmp/ddd") && shown.ends_with("eee/scene.toml"));
+        assert!(shown.contains('…'));
+    }
+}

@@ -47,7 +47,7 @@ pub enum FeError {
         message: String,
     },
     /// A problem with a whole file (or one the reader does not locate).
-    #[error("{file}: {message}")]
+    #[error("{}: {message}", ffr_spec::text::path_text(file))]
     File {
         /// The file as shown to the user.
         file: String,
