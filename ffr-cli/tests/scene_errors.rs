@@ -561,6 +561,21 @@ fn degenerate_forces_overflows_and_long_strings_are_located_and_short() {
             vec!["x = 1e308 is not on the body's axis", "to x = 1 m"],
         ),
         (
+            edit("a = \"ground@[0.0, 0.0]\"", "a = \"ground@[-1e308, 0.0]\""),
+            "\"ground@[-1e308, 0.0]\"",
+            vec!["the coordinate -1e308 is beyond ±1e9 m (MAX_COORDINATE)"],
+        ),
+        (
+            edit("position = [1.0, 0.0]", "position = [1.0, 2e9]"),
+            "[1.0, 2e9]",
+            vec!["`position`: the coordinate 2e9 is beyond ±1e9 m"],
+        ),
+        (
+            edit("at = \"rod@x=0.5\"", "at = \"block@[1e10, 0.0]\""),
+            "\"block@[1e10, 0.0]\"",
+            vec!["the coordinate 1e10 is beyond"],
+        ),
+        (
             edit("rho = 2700.0", "rho = 1e-310"),
             "{ length",
             vec!["parameter `rho` is subnormal, found 1e-310", "smallest normal f64"],

@@ -491,6 +491,13 @@ pub enum ForceKind {
 /// while the table is read (before more is stored).
 pub const MAX_PROFILE_ROWS: usize = 100_000;
 
+/// The largest coordinate of a position in a scene file (a body's
+/// `position`, a point of a marker), in m: f64 resolves about 1e-7 m at
+/// 1e9 m, and a joint between points far from the origin loses the motion
+/// to round-off (a ground point at −1e308 gave "a body's rotation is
+/// constrained twice", or a run whose positions never changed).
+pub const MAX_COORDINATE: f64 = 1e9;
+
 /// The time function `f(t)` of a point force's `profile`.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ForceProfile {

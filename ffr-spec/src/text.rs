@@ -57,16 +57,17 @@ pub fn quoted(s: &str) -> String {
 pub const MAX_DECIMAL_CHARS: usize = 16;
 
 /// A number as messages show it: Rust's shortest decimal form (`1.5`,
-/// `0.001`, `2700`) when that is at most [`MAX_DECIMAL_CHARS`] characters,
-/// otherwise its shortest exponent form (`1e308`, not 309 digits; `1e-310`,
-/// not 312).
+/// `0.001`, `2700`) for magnitudes from 1e-4 to below 1e9 (and 0) when that
+/// is at most [`MAX_DECIMAL_CHARS`] characters, otherwise its shortest
+/// exponent form (`2e9`; `1e308`, not 309 digits; `1e-310`, not 312).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Num(pub f64);
 
 impl std::fmt::Display for Num {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
         let s = self.0.to_string();
-        if s.chars().count() <= MAX_DECIMAL_CHARS {
+        if (a == 0.0 || (1e-4..1e9).contains(&a)) && s.chars().count() <= MAX_DECIMAL_CHARS {
             f.write_str(&s)
         } else {
             write!(f, "{:e}", self.0)
@@ -87,6 +88,10 @@ mod num_tests {
             (1e308, "1e308"),
             (-1e308, "-1e308"),
             (1e-310, "1e-310"),
+            (2e9, "2e9"),
+            (123456789.5, "123456789.5"),
+            (1e-5, "1e-5"),
+            (0.0, "0"),
             (0.1 + 0.2, "3.0000000000000004e-1"),
             (f64::NAN, "NaN"),
             (f64::INFINITY, "inf"),

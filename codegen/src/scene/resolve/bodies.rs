@@ -635,7 +635,20 @@ fn inertia3(c: &Ctx, v: &Spanned<toml::Value>) -> Result<[[f64; 3]; 3], Error> {
 
 fn pose(c: &Ctx, rb: &RawBody, dim: usize) -> Result<([f64; 3], Orientation), Error> {
     let p = match &rb.position {
-        Some(v) => vec_n(c, v, dim, "position")?,
+        Some(v) => {
+            let p = vec_n(c, v, dim, "position")?;
+            if let Some(x) = p.iter().find(|x| x.abs() > ffr_spec::scene::MAX_COORDINATE) {
+                return Err(c.err(
+                    v.span(),
+                    format!(
+                        "`position`: the coordinate {} is beyond ±{:e} m (MAX_COORDINATE), where f64 cannot resolve the motion: place the scene near the origin",
+                        Num(*x),
+                        ffr_spec::scene::MAX_COORDINATE
+                    ),
+                ));
+            }
+            p
+        }
         None => [0.0; 3],
     };
     if dim == 2 {

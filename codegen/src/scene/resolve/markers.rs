@@ -153,6 +153,20 @@ impl Markers<'_> {
             v[..self.dim].copy_from_slice(&xs);
             Some(v)
         };
+        let far = |p: [f64; 3]| -> Result<[f64; 3], Error> {
+            match p.iter().find(|x| x.abs() > ffr_spec::scene::MAX_COORDINATE) {
+                None => Ok(p),
+                Some(x) => Err(self.c.err(
+                    span.clone(),
+                    format!(
+                        "`{text}`: the coordinate {} is beyond ±{:e} m (MAX_COORDINATE), where f64 cannot resolve the motion: place the scene near the origin",
+                        ffr_spec::text::Num(*x),
+                        ffr_spec::scene::MAX_COORDINATE,
+                        text = q(text)
+                    ),
+                )),
+            }
+        };
         if name == "ground" {
             let p = rest.and_then(point).ok_or_else(|| {
                 self.c.err(
@@ -165,7 +179,7 @@ impl Markers<'_> {
                     ),
                 )
             })?;
-            return Ok(MarkerPoint::Ground(p));
+            return Ok(MarkerPoint::Ground(far(p)?));
         }
         let Some(i) = self.names.iter().position(|n| n == name) else {
             return Err(self.c.err(
@@ -235,12 +249,15 @@ impl Markers<'_> {
                 }
                 Ok(MarkerPoint::Axis(i, x))
             }
-            Some(r) => point(r).map(|p| MarkerPoint::Point(i, p)).ok_or_else(|| {
-                self.c.err(
-                    span.clone(),
-                    format!("`{text}`: not a marker; {}", allowed(), text = q(text)),
-                )
-            }),
+            Some(r) => {
+                let p = point(r).ok_or_else(|| {
+                    self.c.err(
+                        span.clone(),
+                        format!("`{text}`: not a marker; {}", allowed(), text = q(text)),
+                    )
+                })?;
+                Ok(MarkerPoint::Point(i, far(p)?))
+            }
         }
     }
 }
