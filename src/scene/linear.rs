@@ -155,10 +155,12 @@ pub fn inputs(
                     b: super::build::marker(sys, b)?,
                     law: TorqueLaw::Torque(Arc::new(|_| 1.0)),
                 },
-                _ => return Err(format!(
+                _ => {
+                    return Err(format!(
                     "input `{qn}`: force {k} is a spring–damper, part of the system, not an input"
                 )
-                .into()),
+                    .into())
+                }
             }))
         } else {
             return Err(format!(
@@ -631,8 +633,13 @@ pub fn divergence_warning(w: f64, modes: &[CampbellMode]) -> Option<String> {
     if growing.is_empty() {
         return None;
     }
+    let (verb, tail) = if growing.len() == 1 {
+        ("grows", "its frequency is not a vibration of the rotor")
+    } else {
+        ("grow", "their frequencies are not vibrations of the rotor")
+    };
     Some(format!(
-        "Ω = {w:?} rad/s: the steady rotation is unstable: {} grows (ζ = −1: a real eigenvalue λ > 0, one of a divergent pair — a frequency that spin softening brought through zero, as for a body without geometric stiffening or an FE body; −1 < ζ < 0: an oscillation that grows); its frequency is not a vibration of the rotor",
+        "Ω = {w:?} rad/s: the steady rotation is unstable: {} {verb} (ζ = −1: a real eigenvalue λ > 0, one of a divergent pair — a frequency that spin softening brought through zero, as for a body without geometric stiffening or an FE body; −1 < ζ < 0: an oscillation that grows); {tail}",
         growing.join(", ")
     ))
 }
