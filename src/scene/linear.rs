@@ -282,20 +282,21 @@ pub fn operating_state(scene: &Scene, at: At) -> crate::Result<State> {
             .state)
         }
         At::Time(t) if !(t.is_finite() && t >= 0.0) => {
-            Err(format!("--at {t:?}: a time must be finite and ≥ 0").into())
+            Err(format!("--at {}: a time must be finite and ≥ 0", short(t)).into())
         }
         At::Time(0.0) => checked(sys.initial_state(0.0)?, "the initial state".into()),
         At::Time(t) if t < MIN_OPERATING_TIME_IN_STEPS * scene.dt => Err(format!(
-            "--at {t:?}: a time below {MIN_OPERATING_TIME_IN_STEPS:e} × the scene's step dt = {:?} s is the initial state to within round-off (and a step that short is not one the integrator can take): use --at 0 for the initial state, or a time of at least {:?} s",
-            scene.dt,
-            MIN_OPERATING_TIME_IN_STEPS * scene.dt
+            "--at {}: a time below {MIN_OPERATING_TIME_IN_STEPS:e} × the scene's step dt = {} s is the initial state to within round-off (and a step that short is not one the integrator can take): use --at 0 for the initial state, or a time of at least {} s",
+            short(t),
+            short(scene.dt),
+            short(MIN_OPERATING_TIME_IN_STEPS * scene.dt)
         )
         .into()),
         At::Time(t) => {
             let s = sys.simulate(t, scene.dt.min(t), &scene.integrator, |_| {
                 ControlFlow::Continue(())
             })?;
-            checked(s.last, format!("the state at t = {t:?} s"))
+            checked(s.last, format!("the state at t = {} s", short(t)))
         }
     }
 }
@@ -599,6 +600,20 @@ pub fn campbell(
 /// come out at `|ζ| ≈ 10⁻¹⁶`).
 const GROWING_ZETA: f64 = -1e-6;
 
+/// At most this many growing modes are named in one warning (the rest
+/// counted).
+const NAMED_GROWING: usize = 4;
+
+/// A number in short form: `{:?}` (shortest round trip) between 10⁻³ and
+/// 10⁶, else `{:e}` (`1e15`, not `1000000000000000.0`).
+fn short(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e6).contains(&x.abs()) || !x.is_finite() {
+        format!("{x:?}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// The warning of a Campbell speed `w` whose `modes` include growing ones:
 /// `ζ = −1` (a real eigenvalue `λ > 0`: a divergence, the two eigenvalues
 /// of a pair that spin softening has brought through zero frequency, as
@@ -633,14 +648,19 @@ pub fn divergence_warning(w: f64, modes: &[CampbellMode]) -> Option<String> {
     if growing.is_empty() {
         return None;
     }
+    let count = growing.len();
+    let mut named = growing[..count.min(NAMED_GROWING)].join(", ");
+    if count > NAMED_GROWING {
+        named.push_str(&format!(" and {} more", count - NAMED_GROWING));
+    }
     let (verb, tail) = if growing.len() == 1 {
         ("grows", "its frequency is not a vibration of the rotor")
     } else {
         ("grow", "their frequencies are not vibrations of the rotor")
     };
     Some(format!(
-        "Ω = {w:?} rad/s: the steady rotation is unstable: {} {verb} (ζ = −1: a real eigenvalue λ > 0, one of a divergent pair — a frequency that spin softening brought through zero, as for a body without geometric stiffening or an FE body; −1 < ζ < 0: an oscillation that grows); {tail}",
-        growing.join(", ")
+        "Ω = {} rad/s: the steady rotation is unstable: {named} {verb} (ζ = −1: a real eigenvalue λ > 0, one of a divergent pair — a frequency that spin softening brought through zero, as for a body without geometric stiffening or an FE body; −1 < ζ < 0: an oscillation that grows); {tail}",
+        short(w)
     ))
 }
 
@@ -812,7 +832,7 @@ pub fn campbell_with(
         s.joints[ji].drive = Some((ProfileSpec::ConstantRate { start, rate: w }, at.clone()));
         let scene = super::build(&s, provider)?;
         let sys = &scene.system;
-        let at_speed = |e: &dyn std::fmt::Display| format!("Ω = {w:?} rad/s: {e}");
+        let at_speed = |e: &dyn std::fmt::Display| format!("Ω = {} rad/s: {e}", short(w));
         crate::runtime::linear::check_dense_size(sys, 0).map_err(|e| at_speed(&e))?;
         let init = sys.initial_state(0.0).map_err(|e| at_speed(&e))?;
         // The steady state passes the validity check in its solver
