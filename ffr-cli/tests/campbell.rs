@@ -535,6 +535,7 @@ fn rotating_free_response_has_the_campbell_frequency() {
     let st = steady_state(sys, 0.0, &init, motion).unwrap();
     let model = linearize(sys, &st, &[], &[]).unwrap();
     let w1 = ffr::runtime::linear::eigenvalues(&model.a)
+        .unwrap()
         .into_iter()
         .find(|l| l.im > 0.0)
         .unwrap()
@@ -924,4 +925,113 @@ fn no_stiffening_is_warned_about() {
             assert!(warnings.is_empty(), "{js}");
         }
     }
+}
+
+/// Issue 36: the slider-crank's slider turns with the crank (through the
+/// rod) but its prismatic joint holds it to the ground: there is no
+/// steady rotating state. Refused at that joint, before any computation
+/// (before, `--speeds 1e15` spun forever and ordinary speeds printed a
+/// diagram).
+#[test]
+fn a_rotor_body_held_to_the_ground_has_no_steady_state() {
+    let p = common::cli::scene("slider_crank.toml");
+    for speeds in ["150", "1e15"] {
+        let (ok, out, err) = ffr(&["campbell", &p, "--speeds", speeds]);
+        assert!(!ok && out.is_empty(), "{speeds}: {out}");
+        assert!(
+            err.contains("slider_crank.toml:82:")
+                && err.contains("joint 4 (a prismatic joint of body `slider` to the ground)")
+                && err.contains("no steady rotating state"),
+            "{speeds}: {err}"
+        );
+        // Refused before the diagram's warnings.
+        assert!(!err.contains("warning"), "{err}");
+    }
+}
+
+/// Issue 36: the steady state passes the validity check. At 2000 rad/s
+/// the 8 m spin-up beam's steady state (linear elasticity with
+/// stiffening) has its elastic displacement beyond the beam's length;
+/// at 1e20 rad/s too: both are refused, naming the speed and the body
+/// (before, both printed a diagram and exited 0). Speeds so large that
+/// the centrifugal forces overflow are values too large for double
+/// precision, not a step to shorten (campbell has none).
+#[test]
+fn a_steady_state_beyond_the_body_size_is_refused() {
+    let p = common::cli::scene("spin_up.toml");
+    for (w, shown) in [("2000", "Ω = 2000.0 rad/s"), ("1e20", "Ω = 1e20 rad/s")] {
+        let (ok, _, err) = ffr(&["campbell", &p, "--speeds", w, "--count", "2"]);
+        assert!(!ok, "{w}");
+        assert!(
+            err.contains(shown)
+                && err.contains("the state reached is not valid")
+                && err.contains("body `beam` is deformed by")
+                && err.contains("its length 8.0000 m"),
+            "{w}: {err}"
+        );
+    }
+    let (ok, _, err) = ffr(&["campbell", &p, "--speeds", "1e155", "--count", "2"]);
+    assert!(!ok);
+    assert!(
+        err.contains("Ω = 1e155 rad/s")
+            && err.contains("too large for double precision")
+            && !err.contains("try a smaller step"),
+        "{err}"
+    );
+    // A valid speed still gives its diagram.
+    let (ok, out, err) = ffr(&["campbell", &p, "--speeds", "0,20", "--count", "2"]);
+    assert!(ok && out.contains("Ω = 20.0 rad/s"), "{err}");
+}
+
+/// Issue 36: spin softening of a beam without stiffening turns its first
+/// lag pair into a divergent pair (ζ = ±1, `spin_softening_shows_as_an_unstable_pair`):
+/// the diagram says so, naming the speed and the mode, on stderr and in
+/// `--json` `warnings`; with stiffening nothing is said.
+#[test]
+fn a_divergent_pair_is_warned_about_by_speed_and_mode() {
+    let text = include_str!("../../scenes/spin_up.toml");
+    let off = text.replace("stiffening = true", "stiffening = false");
+    for (t, diverges) in [(text.to_string(), false), (off, true)] {
+        let spec = ffr::codegen::scene::resolve_str(&t, "spin_up.toml", Path::new(".")).unwrap();
+        let c = campbell(&spec, &DefaultKernels, &[0.0, 20.0], None, 4).unwrap();
+        let growing: Vec<&String> = c
+            .warnings
+            .iter()
+            .filter(|w| w.contains("the steady rotation is unstable"))
+            .collect();
+        if diverges {
+            assert_eq!(growing.len(), 1, "{:?}", c.warnings);
+            let k = c.modes[1]
+                .iter()
+                .position(|m| (m.zeta + 1.0).abs() < 1e-9)
+                .unwrap();
+            assert!(
+                growing[0].starts_with("Ω = 20.0 rad/s")
+                    && growing[0].contains(&format!("mode {} (", k + 1))
+                    && growing[0].contains("divergent"),
+                "{}",
+                growing[0]
+            );
+        } else {
+            assert!(growing.is_empty(), "{:?}", c.warnings);
+        }
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("off.toml");
+    std::fs::write(
+        &path,
+        text.replace("stiffening = true", "stiffening = false"),
+    )
+    .unwrap();
+    let p = path.to_str().unwrap();
+    let (ok, out, err) = ffr(&["campbell", p, "--speeds", "20", "--count", "4", "--json"]);
+    assert!(ok, "{err}");
+    assert!(
+        err.contains(&format!(
+            "warning: {p}: Ω = 20.0 rad/s: the steady rotation is unstable"
+        )),
+        "{err}"
+    );
+    let js: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(js["warnings"].as_array().unwrap().len(), 2, "{js}");
 }

@@ -604,7 +604,7 @@ fn null_space_basis_by_coordinate_partitioning() {
         ind.contains(&3),
         "a coordinate no row touches is independent"
     );
-    let ev = eigenvalues(&DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -4.0, 0.0]));
+    let ev = eigenvalues(&DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -4.0, 0.0])).unwrap();
     assert_eq!(ev.len(), 2);
     assert!(ev[0].im < 0.0 && ev[1].im > 0.0 && (ev[1].im - 2.0).abs() < 1e-14);
 }
@@ -796,5 +796,36 @@ fn output_matrix_equals_finite_differences() {
             model.c.row(1).iter().skip(nz).any(|x| *x != 0.0),
             "velocity output"
         );
+    }
+}
+
+/// Issue 36: a time so short that a step of it is no step of the scene is
+/// refused with the way out (`--at 0`), not by halving the step to
+/// 1e-303 s; a time just above the bound is linearized.
+#[test]
+fn an_operating_time_too_short_for_a_step_is_refused() {
+    let p = common::cli::scene("pendulum.toml");
+    let (ok, _, err) = ffr(&["linearize", &p, "--at", "1e-300"]);
+    assert!(!ok);
+    assert!(
+        err.contains("--at 1e-300")
+            && err.contains("use --at 0")
+            && !err.contains("halved")
+            && err.lines().count() == 1,
+        "{err}"
+    );
+    let (ok, _, err) = ffr(&["linearize", &p, "--at", "1e-14"]);
+    assert!(ok, "{err}");
+}
+
+/// Issue 36: the eigenvalues of a matrix that is not finite are an error,
+/// not a Schur iteration without end (the hang of `campbell --speeds
+/// 1e15` on the slider-crank).
+#[test]
+fn eigenvalues_of_a_non_finite_matrix_are_an_error() {
+    for x in [f64::NAN, f64::INFINITY] {
+        let a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, x, 0.0]);
+        let e = eigenvalues(&a).unwrap_err().to_string();
+        assert!(e.contains("at (2, 1)"), "{e}");
     }
 }

@@ -178,3 +178,26 @@ fn when_nothing_helps_the_error_says_what_was_tried() {
         "{err}"
     );
 }
+
+/// Issue 36: a value too large for double precision (a PD gain of 1e300)
+/// makes the residual non-finite however short the step: the error says
+/// so and does not advise a smaller step.
+#[test]
+fn a_value_too_large_for_f64_is_not_a_step_to_shorten() {
+    let text =
+        std::fs::read_to_string(ffr::scene::load::builtin_dir().join("two_link_arm.toml")).unwrap();
+    let i = text.find("kp = ").unwrap();
+    let end = i + text[i..].find(',').unwrap();
+    let hot = format!("{}kp = 1e300{}", &text[..i], &text[end..]);
+    let scene = from_str(&hot, "hot.toml", Path::new("."), &DefaultKernels).unwrap();
+    let err = run(&scene)
+        .map_err(|e| e.to_string())
+        .and_then(|r| r.failed.map_or(Ok(()), Err))
+        .unwrap_err();
+    assert!(
+        err.contains("non-finite residual")
+            && err.contains("too large for double precision")
+            && !err.contains("try a smaller step"),
+        "{err}"
+    );
+}

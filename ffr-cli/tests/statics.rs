@@ -358,9 +358,10 @@ fn segmented(n: usize, segments: usize, alpha: f64, dim: usize) -> String {
 /// `segments = 16` on a body of 16 elements is the hand-made chain of 16
 /// one-element bodies with `fixed` joints (the same equations, numbered
 /// differently: the tip agrees to the solver's tolerance, 1e-9 L), planar
-/// and spatial, at α = 10; the body on one frame is far off and `ffr static
-/// --json` carries the single-frame warning (only then: the chain's JSON
-/// has the three keys).
+/// and spatial, at α = 10; the body on one frame is not a valid state there
+/// (deformed beyond its length), and at α = 5 far off, with the
+/// single-frame warning in `ffr static --json` (only then: the chain's
+/// JSON has the three keys).
 #[test]
 fn segments_are_the_hand_made_chain() {
     let dir = tempfile::tempdir().unwrap();
@@ -387,15 +388,24 @@ fn segments_are_the_hand_made_chain() {
             .map(|k| k.as_str())
             .collect();
         assert_eq!(keys, ["iterations", "outputs", "steps"], "{seg_js}");
-        // One frame: the stiffening model alone, far from the elastica, and
-        // warned about.
-        let one = static_json(&[&write(
-            dir.path(),
-            "one.toml",
-            &segmented(16, 1, alpha, dim),
-        )]);
+        // One frame at α = 10: the stiffening model alone displaces the
+        // tip by more than the body's length, not a valid state (the
+        // validity check of every state, issue 36; a time run there is
+        // stopped by the same bound).
+        let p = write(dir.path(), "one.toml", &segmented(16, 1, alpha, dim));
+        let (ok, _, e) = ffr(&["static", &p]);
+        assert!(
+            !ok && e.contains("the state reached is not valid")
+                && e.contains("more than 1 × its length 1.0000 m"),
+            "{e}"
+        );
+        // At α = 5 one frame is valid, far from the elastica, and warned
+        // about.
+        let (a5, ru5, rv5) = elastica()[2];
+        assert_eq!(a5, 5.0);
+        let one = static_json(&[&write(dir.path(), "one5.toml", &segmented(16, 1, a5, dim))]);
         let o = tip(&one);
-        let err = (o.0 - 1.0 - ru).abs().max((o.1 - rv).abs());
+        let err = (o.0 - 1.0 - ru5).abs().max((o.1 - rv5).abs());
         println!(
             "dim {dim}: one frame {o:?}, error {err:.3e}: {}",
             one["warnings"]
@@ -410,4 +420,85 @@ fn segments_are_the_hand_made_chain() {
             "{w:?}"
         );
     }
+}
+
+/// The FE cantilever of `tests/data/fe` (a 1 m steel box, 99 nodes, 12
+/// modes) clamped to the ground by a fixed joint under gravity `g` along
+/// −y, its files named by absolute path.
+fn fe_cantilever(g: f64) -> String {
+    let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/fe");
+    let f = |n: &str| d.join(n).display().to_string();
+    format!(
+        r#"description = "FE cantilever under gravity"
+dimension = 3
+gravity = [0.0, {g:e}, 0.0]
+t_end = 0.01
+dt = 1e-4
+
+[bodies.bar]
+fe = {{ nodes = "{}", mass = "{}", stiffness = "{}" }}
+reference = "clamped"
+interface = [0, 1, 2, 33, 34, 35, 66, 67, 68]
+modes = 12
+
+[[joints]]
+kind = "fixed"
+a = "ground@[0.0, 0.0, 0.0]"
+b = "bar"
+
+[[outputs]]
+name = "tip_y"
+kind = "deflection"
+at = "bar@node=64"
+component = "y"
+"#,
+        f("cantilever_nodes.csv"),
+        f("cantilever_mass.mtx"),
+        f("cantilever_stiffness.mtx")
+    )
+}
+
+/// Issue 36: the validity check applies to FE bodies as to beams. Under
+/// 8 × 10⁵ m/s² the 1 m FE cantilever's linear static deflection is about
+/// 5 m (5.8e-5 m at 9.81 m/s², linear in g: checked below at a
+/// reasonable gravity), far beyond what one floating frame with small
+/// elastic coordinates describes: `ffr static` and `linearize --at
+/// static` refuse the state, naming the body and the node, and a time run
+/// is stopped by the divergence monitor (before, all three exited 0).
+#[test]
+fn an_fe_body_deformed_beyond_its_size_is_not_a_valid_state() {
+    let dir = common::cli::temp_dir("static", "fe-valid");
+    let mild = write(&dir, "mild.toml", &fe_cantilever(-9.81));
+    let js = static_json(&[&mild]);
+    let d = output(&js, "tip_y");
+    assert!(d < 0.0 && d.abs() < 1e-3, "{d}");
+    let heavy = write(&dir, "heavy.toml", &fe_cantilever(-8.0e5));
+    // The linear model's deflection scales with g: meters at 8e5.
+    assert!(d.abs() * 8.0e5 / 9.81 > 1.0);
+    for args in [
+        vec!["static", heavy.as_str()],
+        vec!["linearize", heavy.as_str(), "--at", "static"],
+    ] {
+        let (ok, _, err) = ffr(&args);
+        assert!(!ok, "{args:?} succeeded");
+        assert!(
+            err.contains("is not valid")
+                && err.contains("body `bar` is deformed by")
+                && err.contains("at node ")
+                && err.contains("its size (nodes' bounding-box diagonal) 1.0"),
+            "{args:?}: {err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    let csv = dir.join("run.csv");
+    let (ok, _, err) = ffr(&["run", &heavy, "--csv", csv.to_str().unwrap()]);
+    assert!(
+        !ok,
+        "the run of an FE body deformed beyond its size exited 0"
+    );
+    assert!(
+        err.contains("the run diverged") && err.contains("body `bar` is deformed by"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

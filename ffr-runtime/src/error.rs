@@ -40,7 +40,7 @@ pub enum Error {
     },
     /// A generalized-α step failed from both Newton starts and after
     /// halving it `halvings` times.
-    #[error("step {step} at t = {t:.6} s failed even when restarted from rest and halved {halvings} times (to dt = {dt_min:e} s; there: {why}): look for a load on a coordinate with almost no inertia, a force that grows without bound, or contradictory constraints, or try a smaller step or lower rho_inf", why = cause.short())]
+    #[error("step {step} at t = {t:.6} s failed even when restarted from rest and halved {halvings} times (to dt = {dt_min:e} s; there: {why}): {advice}", why = cause.short(), advice = step_failed_advice(cause))]
     StepFailed {
         /// Step index (0-based: the step starting at `t`).
         step: usize,
@@ -133,6 +133,22 @@ impl Error {
             Error::NonFinite { what, .. } => format!("non-finite {what}"),
             Error::Singular { what, detail, .. } => format!("singular {what} ({detail})"),
             other => other.to_string(),
+        }
+    }
+}
+
+/// What to try after a step failed at its shortest length for `cause`:
+/// equations that are not finite even for the shortest step restarted from
+/// rest come from values too large for `f64` (a stiffness, gain, load or
+/// speed) or a force without bound, which no smaller step mends; other
+/// failures may be the step's.
+fn step_failed_advice(cause: &Error) -> &'static str {
+    match cause {
+        Error::NonFinite { .. } | Error::Unstable { .. } => {
+            "the equations are not finite even for the shortest step from rest: a value of the scene (a stiffness, gain, load, speed or mass) too large for double precision, or a force that grows without bound; a smaller step does not help"
+        }
+        _ => {
+            "look for a load on a coordinate with almost no inertia, a force that grows without bound, or contradictory constraints, or try a smaller step or lower rho_inf"
         }
     }
 }

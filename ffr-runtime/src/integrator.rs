@@ -373,7 +373,14 @@ fn initial_state<B: Body>(asm: &mut Assembly<B>, w: &mut Lin, t0: f64) -> Result
     }
     crate::initial::make_consistent(asm, t0, &mut q, &mut v)?;
     let mut lam = vec![0.0; m];
-    accelerations(asm, w, t0, &q, &v, &mut a, &mut lam, (0.0, 0.0))?;
+    // Non-finite forces before any step are values too large for f64 (a
+    // speed, a load, a stiffness), not a step too long: say so.
+    accelerations(asm, w, t0, &q, &v, &mut a, &mut lam, (0.0, 0.0)).map_err(|e| match e {
+        Error::Unstable { what, t } => Error::InvalidInput(format!(
+            "the {what} of the initial state (t = {t:?} s) are not finite: a value of the scene (a speed, load, stiffness or mass) is too large for double precision (no step has been taken: a smaller step does not help)"
+        )),
+        other => other,
+    })?;
     Ok(State {
         t: t0,
         q,

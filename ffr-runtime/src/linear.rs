@@ -231,23 +231,47 @@ fn partition(phi_q: &DMatrix<f64>) -> Partition {
     }
 }
 
+/// Schur iterations per eigenvalue at most (LAPACK's `dhseqr` allows 30
+/// per eigenvalue; a matrix that needs more is refused, not iterated
+/// forever).
+pub const SCHUR_ITERATIONS_PER_EIGENVALUE: usize = 60;
+
 /// The eigenvalues of `a` (real Schur form after balancing: a diagonal
 /// similarity by powers of two that equalizes row and column norms, as
 /// LAPACK's `dgebal`, so that the slow modes of a stiff model keep their
 /// relative accuracy), sorted by modulus, then imaginary part (a conjugate
-/// pair: negative first). Empty for an empty matrix.
-pub fn eigenvalues(a: &DMatrix<f64>) -> Vec<Complex<f64>> {
+/// pair: negative first). Empty for an empty matrix. A matrix with an
+/// entry that is not finite, or whose Schur iteration does not converge
+/// in [`SCHUR_ITERATIONS_PER_EIGENVALUE`] × its size iterations, is an
+/// error (the iteration is capped: it never runs forever).
+pub fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<Complex<f64>>> {
     if a.nrows() == 0 {
-        return Vec::new();
+        return Ok(Vec::new());
     }
-    let mut ev: Vec<Complex<f64>> = balance(a).complex_eigenvalues().iter().copied().collect();
+    if let Some(k) = a.iter().position(|x| !x.is_finite()) {
+        let (i, j) = (k % a.nrows(), k / a.nrows());
+        return Err(Error::InvalidInput(format!(
+            "the state matrix A has the entry {} at ({}, {}): its eigenvalues are not defined",
+            a[(i, j)],
+            i + 1,
+            j + 1
+        )));
+    }
+    let n = a.nrows();
+    let cap = SCHUR_ITERATIONS_PER_EIGENVALUE * n.max(10);
+    let schur = nalgebra::linalg::Schur::try_new(balance(a), f64::EPSILON, cap).ok_or_else(|| {
+        Error::InvalidInput(format!(
+            "the eigenvalues of the {n}×{n} state matrix A did not converge in {cap} Schur iterations"
+        ))
+    })?;
+    let mut ev: Vec<Complex<f64>> = schur.complex_eigenvalues().iter().copied().collect();
     ev.sort_by(|x, y| {
         x.norm()
             .total_cmp(&y.norm())
             .then(x.im.total_cmp(&y.im))
             .then(x.re.total_cmp(&y.re))
     });
-    ev
+    Ok(ev)
 }
 
 /// `D⁻¹ A D` with `D` diagonal, powers of two, chosen (Parlett & Reinsch)
@@ -296,6 +320,36 @@ pub fn balance(a: &DMatrix<f64>) -> DMatrix<f64> {
     b
 }
 
+/// The most unknowns — free coordinates and constraint rows — of the
+/// dense matrices of a linear model ([`linearize`]) or a Campbell steady
+/// state (whose Newton matrix is dense): each such matrix takes
+/// `8 n²` bytes (32 MiB at the limit), a model several of them, and its
+/// eigenvalues `O(n³)` time. Checked before anything dense is allocated
+/// ([`check_dense_size`]); time runs, which are banded, have no such limit.
+pub const MAX_DENSE_UNKNOWNS: usize = 2048;
+
+/// Refuse, before allocating, a system whose dense linear model (with
+/// `extra` more states per position, e.g. drive inputs) would exceed
+/// [`MAX_DENSE_UNKNOWNS`], saying how large it is and what the limit is.
+pub fn check_dense_size<B: Body>(sys: &System<B>, extra: usize) -> Result<()> {
+    let free = sys.n_coords().saturating_sub(sys.prescribed().len());
+    let rows: usize = sys
+        .constraints()
+        .iter()
+        .map(|c| c.rows.len())
+        .sum::<usize>()
+        + sys.bodies().iter().filter(|b| b.n_theta == 4).count();
+    let total = free.saturating_add(rows).saturating_add(extra);
+    if total > MAX_DENSE_UNKNOWNS {
+        let mib = (total as f64).powi(2) * 8.0 / (1024.0 * 1024.0);
+        return Err(Error::InvalidInput(format!(
+            "a linear model of this system needs dense matrices over {free} free coordinates and {rows} constraint rows{}: {total} unknowns ({mib:.0} MiB per matrix), more than the limit of {MAX_DENSE_UNKNOWNS} (MAX_DENSE_UNKNOWNS) for linearize and campbell; use fewer elements, segments or modes (time runs, which are banded, take this system)",
+            if extra > 0 { format!(" and {extra} drive states") } else { String::new() }
+        )));
+    }
+    Ok(())
+}
+
 /// Linearize `sys` about `state` (consistent: the residual vanishes) with
 /// `inputs` and `outputs` (module documentation). A drive input adds the
 /// driver's perturbation `s` and its rate to the states (after the
@@ -308,6 +362,18 @@ pub fn linearize<B: Body>(
     inputs: &[LinearInput],
     outputs: &[LinearOutput],
 ) -> Result<LinearModel> {
+    let drive_inputs = inputs
+        .iter()
+        .filter(|i| matches!(i.load, InputLoad::Drive { .. }))
+        .count();
+    check_dense_size(sys, drive_inputs)?;
+    if state.q.len() != sys.n_coords() || state.v.len() != sys.n_coords() {
+        return Err(Error::InvalidInput(format!(
+            "the state has {} coordinates, the system {}",
+            state.q.len(),
+            sys.n_coords()
+        )));
+    }
     let mut asm = Assembly::new(sys)?;
     let (t, q, v) = (state.t, &state.q, &state.v);
     let parts = asm.tangent_parts(t, q, v, &state.a, &state.lambda);
@@ -440,6 +506,17 @@ pub fn linearize<B: Body>(
     let mut states = pos.clone();
     states.extend(pos.iter().map(|l| format!("{l}_dot")));
     let drive_basis = DMatrix::from_fn(nu, nd, |i, j| drives[j].1[i]);
+    for (name, mat) in [("A", &a), ("B", &b), ("C", &c)] {
+        if let Some(k) = mat.iter().position(|x| !x.is_finite()) {
+            let (i, j) = (k % mat.nrows(), k / mat.nrows());
+            return Err(Error::InvalidInput(format!(
+                "the linear model about the state at t = {t:e} s is not finite: {name}({}, {}) = {}",
+                i + 1,
+                j + 1,
+                mat[(i, j)]
+            )));
+        }
+    }
     Ok(LinearModel {
         state: state.clone(),
         states,

@@ -3,10 +3,14 @@
 //!
 //! After every step [`System::simulate`](crate::System::simulate) checks:
 //!
-//! - **deformation**: the elastic displacement `|Σ_j s_j(x) q_j|` of every
-//!   flexible body at 17 points along its axis stays below
-//!   [`Monitor::deformation`] times the body's length (a floating frame of
-//!   reference with small elastic coordinates cannot describe more);
+//! - **deformation** ([`Validity`]): the elastic displacement
+//!   `|Σ_j s_j q_j|` of every flexible body stays below
+//!   [`Monitor::deformation`] times the body's size (a floating frame of
+//!   reference with small elastic coordinates cannot describe more): a
+//!   beam (or a modal body on a beam) at 17 points along its axis against
+//!   its length, an FE body at its nodes (the node each elastic coordinate
+//!   moves most, and up to 64 nodes evenly spread) against its nodes'
+//!   bounding-box diagonal;
 //! - **energy** (every 16 steps, when no drive does work: no prescribed coordinate that moves
 //!   and no driving constraint): the energy gained beyond the work applied,
 //!   `ΔE_exc = E(t) − E(0) − W(t) + D(t)`, stays below [`Monitor::energy`]
@@ -20,6 +24,11 @@
 //!   of the steps needed their Newton iteration restarted from rest.
 //!
 //! Nothing is allocated after the run's watch is set up (`Watch::new`).
+//!
+//! The same deformation bound, with finite coordinates, rates and energy,
+//! is the validity check of a single state, [`check_state`], which every
+//! other path that produces a state applies: `ffr static`, the Campbell
+//! steady state, `linearize --at` (`docs/limits-and-errors.md`).
 
 use crate::assembly::Assembly;
 use crate::body::{Body, PointShape};
@@ -78,8 +87,197 @@ const MIN_STEPS: usize = 100;
 struct Sampled {
     body: usize,
     f0: usize,
-    length: f64,
     points: Vec<(f64, PointShape)>,
+}
+
+/// Nodes sampled per FE body at most (besides the largest node of each
+/// elastic coordinate).
+const NODE_SAMPLES: usize = 64;
+
+/// A flexible body's points that the validity check samples: a beam's 17
+/// points along its axis (`where` the axial position `x`), an FE body's
+/// nodes (`where` the node index: for each elastic coordinate the node it
+/// moves most, and up to [`NODE_SAMPLES`] nodes evenly spread), and the
+/// body's size: a beam's length, an FE body's nodes' bounding-box
+/// diagonal.
+struct Shaped {
+    body: usize,
+    f0: usize,
+    size: f64,
+    nodes: bool,
+    points: Vec<(f64, PointShape)>,
+}
+
+/// The deformation part of the validity check ([`check_state`], and the
+/// monitor after every step): the points of every flexible body — beams,
+/// modal bodies, FE bodies — and their sizes. No allocation after
+/// [`Validity::new`].
+pub struct Validity {
+    shaped: Vec<Shaped>,
+}
+
+impl Validity {
+    /// The sample points of `sys`'s flexible bodies.
+    pub fn new<B: Body>(sys: &crate::System<B>) -> Result<Self> {
+        let mut shaped = Vec::new();
+        for (i, b) in sys.bodies.iter().enumerate() {
+            if b.nf == 0 {
+                continue;
+            }
+            let lay = b.body.layout();
+            if let Some(l) = lay.length.filter(|l| *l > 0.0 && l.is_finite()) {
+                let mut points = Vec::with_capacity(SAMPLES);
+                for k in 0..SAMPLES {
+                    let x = l * k as f64 / (SAMPLES - 1) as f64;
+                    points.push((x, b.body.point_shape(x)?));
+                }
+                shaped.push(Shaped {
+                    body: i,
+                    f0: b.f_offset(),
+                    size: l,
+                    nodes: false,
+                    points,
+                });
+                continue;
+            }
+            let n = b.body.node_count();
+            if n == 0 {
+                continue;
+            }
+            // The bounding box of the nodes, and the node each elastic
+            // coordinate moves most.
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            let mut most = vec![(0.0f64, usize::MAX); b.nf];
+            let stride = n.div_ceil(NODE_SAMPLES).max(1);
+            let mut picked: Vec<usize> = Vec::new();
+            for node in 0..n {
+                let s = b.body.node_shape(node)?;
+                for k in 0..3 {
+                    lo[k] = lo[k].min(s.u0[k]);
+                    hi[k] = hi[k].max(s.u0[k]);
+                }
+                for (j, sj, _) in &s.entries {
+                    let a = (sj[0] * sj[0] + sj[1] * sj[1] + sj[2] * sj[2]).sqrt();
+                    if *j < most.len() && a > most[*j].0 {
+                        most[*j] = (a, node);
+                    }
+                }
+                if node % stride == 0 || node == n - 1 {
+                    picked.push(node);
+                }
+            }
+            picked.extend(most.iter().filter(|m| m.1 != usize::MAX).map(|m| m.1));
+            picked.sort_unstable();
+            picked.dedup();
+            let size = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+            if !(size > 0.0 && size.is_finite()) {
+                continue;
+            }
+            let mut points = Vec::with_capacity(picked.len());
+            for node in picked {
+                points.push((node as f64, b.body.node_shape(node)?));
+            }
+            shaped.push(Shaped {
+                body: i,
+                f0: b.f_offset(),
+                size,
+                nodes: true,
+                points,
+            });
+        }
+        Ok(Self { shaped })
+    }
+
+    /// Why the elastic coordinates of `q` are not valid: the first sampled
+    /// point displaced by more than `bound` times its body's size (or by a
+    /// displacement that is not finite), in words; `None` if none is.
+    pub fn deformation<B: Body>(
+        &self,
+        sys: &crate::System<B>,
+        q: &[f64],
+        bound: f64,
+    ) -> Option<String> {
+        for s in &self.shaped {
+            for (x, p) in &s.points {
+                let mut u = [0.0f64; 3];
+                for (j, sj, _) in &p.entries {
+                    let qj = q[s.f0 + j];
+                    for k in 0..3 {
+                        u[k] += sj[k] * qj;
+                    }
+                }
+                let d = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
+                // `!(d <= bound)`: a NaN deformation fails the check too.
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                if !(d <= bound * s.size) {
+                    let name = ffr_spec::text::quoted(&sys.bodies[s.body].name);
+                    let (at, what) = if s.nodes {
+                        (
+                            format!("node {}", *x as usize),
+                            "its size (nodes' bounding-box diagonal)",
+                        )
+                    } else {
+                        (format!("x = {x:.4} m"), "its length")
+                    };
+                    return Some(format!(
+                        "body `{name}` is deformed by {d:.3e} m at {at}, more than {bound} × {what} {:.4} m: the elastic coordinates have left any valid range",
+                        s.size
+                    ));
+                }
+            }
+        }
+        None
+    }
+}
+
+/// The validity check of a state, shared by every path that produces one
+/// (time runs after every step through the monitor, `ffr static`, the
+/// Campbell steady state, `linearize --at`): every coordinate and rate
+/// finite, every flexible body — beam, modal or FE — deformed by at most
+/// the monitor's [`Monitor::deformation`] times its size (a beam's length,
+/// an FE body's nodes' bounding-box diagonal), and the energy at the
+/// state finite. `Err(reason)` says which, with the numbers.
+pub fn check_state<B: Body>(
+    sys: &crate::System<B>,
+    q: &[f64],
+    v: &[f64],
+) -> std::result::Result<(), String> {
+    let labels = || crate::linear::coordinate_labels(sys);
+    if let Some(i) = q.iter().position(|x| !x.is_finite()) {
+        return Err(format!(
+            "coordinate `{}` is {}, not finite",
+            ffr_spec::text::quoted(&labels()[i]),
+            q[i]
+        ));
+    }
+    if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+        return Err(format!(
+            "the rate of coordinate `{}` is {}, not finite",
+            ffr_spec::text::quoted(&labels()[i]),
+            v[i]
+        ));
+    }
+    let bound = if sys.monitor.deformation.is_finite() && sys.monitor.deformation > 0.0 {
+        sys.monitor.deformation
+    } else {
+        Monitor::default().deformation
+    };
+    let validity = Validity::new(sys).map_err(|e| e.to_string())?;
+    if let Some(why) = validity.deformation(sys, q, bound) {
+        return Err(why);
+    }
+    let mut asm = Assembly::new(sys).map_err(|e| e.to_string())?;
+    let e = asm.energy(q, v);
+    let parts = [
+        ("kinetic", e.kinetic),
+        ("elastic", e.elastic),
+        ("gravity", e.gravity),
+        ("spring", e.springs),
+    ];
+    if let Some((what, x)) = parts.iter().find(|(_, x)| !x.is_finite()) {
+        return Err(format!("the {what} energy is {x}, not finite"));
+    }
+    Ok(())
 }
 
 /// The largest elastic section rotation of a flexible body over a run
@@ -129,7 +327,6 @@ impl Rotations {
             sampled.push(Sampled {
                 body: i,
                 f0: b.f_offset(),
-                length: l,
                 points,
             });
             max.push(ElasticRotation {
@@ -182,7 +379,7 @@ pub fn elastic_rotations<B: Body>(
 /// The monitor's state during one run.
 pub(crate) struct Watch {
     settings: Monitor,
-    flex: Vec<Sampled>,
+    validity: Validity,
     /// Energy balance applies (no drive does work).
     balance: bool,
     e0: f64,
@@ -205,7 +402,7 @@ impl Watch {
         t_end: f64,
     ) -> Result<Self> {
         let sys = asm.sys;
-        let mut flex = Vec::new();
+        let validity = Validity::new(sys)?;
         let mut floor = 0.0;
         let g = sys.gravity.norm();
         let moving = |d: &crate::Driver| {
@@ -222,7 +419,7 @@ impl Watch {
                         })
                 })
             });
-        for (i, b) in sys.bodies.iter().enumerate() {
+        for b in sys.bodies.iter() {
             let lay = b.body.layout();
             let m = asm.mass_diagonal(&state.q, &[b.offset])[0];
             let length = match lay.length {
@@ -245,26 +442,11 @@ impl Watch {
                 let l_t = if t_end > 0.0 { length / t_end } else { 0.0 };
                 floor += m * (g * length + l_t * l_t);
             }
-            if b.nf > 0 {
-                if let Some(l) = lay.length.filter(|l| *l > 0.0) {
-                    let mut points = Vec::with_capacity(SAMPLES);
-                    for k in 0..SAMPLES {
-                        let x = l * k as f64 / (SAMPLES - 1) as f64;
-                        points.push((x, b.body.point_shape(x)?));
-                    }
-                    flex.push(Sampled {
-                        body: i,
-                        f0: b.f_offset(),
-                        length: l,
-                        points,
-                    });
-                }
-            }
         }
         let e = asm.energy(&state.q, &state.v);
         Ok(Self {
             settings,
-            flex,
+            validity,
             balance: !driven,
             e0: e.total(),
             base: e.kinetic.abs() + e.elastic.abs() + e.springs.abs() + floor,
@@ -293,25 +475,11 @@ impl Watch {
                 reason,
             })
         };
-        for s in &self.flex {
-            for (x, p) in &s.points {
-                let mut u = [0.0f64; 3];
-                for (j, sj, _) in &p.entries {
-                    let qj = state.q[s.f0 + j];
-                    for k in 0..3 {
-                        u[k] += sj[k] * qj;
-                    }
-                }
-                let d = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
-                // `!(d <= bound)`: a NaN deformation fails the check too.
-                #[allow(clippy::neg_cmp_op_on_partial_ord)]
-                if !(d <= self.settings.deformation * s.length) {
-                    return fail(format!(
-                        "body `{}` is deformed by {d:.3e} m at x = {x:.4} m, more than {} × its length {:.4} m: the elastic coordinates have left any valid range",
-                        asm.sys.bodies[s.body].name, self.settings.deformation, s.length
-                    ));
-                }
-            }
+        if let Some(why) = self
+            .validity
+            .deformation(asm.sys, &state.q, self.settings.deformation)
+        {
+            return fail(why);
         }
         if summary.steps >= MIN_STEPS
             && summary.restarts as f64 > self.settings.restart_fraction * summary.steps as f64

@@ -185,6 +185,10 @@ pub fn equilibrium<B: Body>(
             )));
         }
     }
+    if let SteadyMotion::Rotation { .. } = motion {
+        // The steady rotation's Newton matrix is dense.
+        crate::linear::check_dense_size(sys, 0)?;
+    }
     let n = sys.n_coords();
     if start.q.len() != n {
         return Err(Error::InvalidInput(format!(
@@ -782,6 +786,17 @@ impl<'s, B: Body> Path<'s, B> {
             (self.v.clone(), self.a.clone())
         };
         self.asm.set_load_scale(1.0);
+        // The validity check every path that produces a state applies
+        // ([`crate::monitor::check_state`]): a solution of the equations
+        // whose deformation no floating frame describes is not a result.
+        if let Err(why) = crate::monitor::check_state(self.sys, &q, &v) {
+            let advice = if self.at_rest() {
+                "loads this large deform the body beyond what one floating frame with small elastic coordinates describes: smaller loads, a stiffer body, or a beam split into `segments`"
+            } else {
+                "at this speed the body deforms beyond what one floating frame with small elastic coordinates describes: a lower speed, a stiffer body, or `stiffening = true` on a beam"
+            };
+            return Err(self.error(format!("the state reached is not valid: {why}; {advice}")));
+        }
         Ok(Equilibrium {
             state: State {
                 t,

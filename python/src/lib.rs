@@ -846,7 +846,7 @@ fn linearize<'py>(
             )
         })
         .map_err(|e| py_err(e, Some(&file)))?;
-    let ev = ffr::runtime::linear::eigenvalues(&m.a);
+    let ev = ffr::runtime::linear::eigenvalues(&m.a).map_err(|e| py_err(e.into(), Some(&file)))?;
     let ev: Vec<numpy::Complex64> = ev
         .iter()
         .map(|l| numpy::Complex64::new(l.re, l.im))

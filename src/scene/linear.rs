@@ -84,28 +84,28 @@ pub fn inputs(
     let avail = || default_inputs(spec).join(", ");
     let mut out = Vec::new();
     for name in names {
+        // User text in messages: escaped and cut.
+        let qn = crate::runtime::spec::text::quoted(name);
         let load = if let Some(k) = index_of(name, "drive") {
             let j = spec.joints.get(k - 1).ok_or_else(|| {
-                format!("input `{name}`: the scene has {} joints", spec.joints.len())
+                format!("input `{qn}`: the scene has {} joints", spec.joints.len())
             })?;
             if j.drive.is_none() {
-                return Err(
-                    format!("input `{name}`: joint {k} ({}) has no drive", j.b.text).into(),
-                );
+                return Err(format!("input `{qn}`: joint {k} ({}) has no drive", j.b.text).into());
             }
             let constraint = drive_constraint(spec, k - 1).ok_or_else(|| {
                 format!(
-                    "input `{name}`: joint {k}'s drive is folded into prescribed coordinates; linearize the scene through `linearize_scene`, which unfolds it"
+                    "input `{qn}`: joint {k}'s drive is folded into prescribed coordinates; linearize the scene through `linearize_scene`, which unfolds it"
                 )
             })?;
             InputLoad::Drive { constraint }
         } else if let Some(k) = index_of(name, "joint") {
             let j = spec.joints.get(k - 1).ok_or_else(|| {
-                format!("input `{name}`: the scene has {} joints", spec.joints.len())
+                format!("input `{qn}`: the scene has {} joints", spec.joints.len())
             })?;
             if j.kind != JointKind::Revolute || j.folds.is_some() || j.drive.is_some() {
                 return Err(format!(
-                    "input `{name}`: joint {k} ({}) is {}: a torque input needs a revolute joint whose angle is free",
+                    "input `{qn}`: joint {k} ({}) is {}: a torque input needs a revolute joint whose angle is free",
                     j.b.text,
                     if j.kind != JointKind::Revolute { "not revolute" } else { "driven (its angle is prescribed)" }
                 )
@@ -119,7 +119,7 @@ pub fn inputs(
             }))
         } else if let Some(k) = index_of(name, "force") {
             let f = spec.forces.get(k - 1).ok_or_else(|| {
-                format!("input `{name}`: the scene has {} forces", spec.forces.len())
+                format!("input `{qn}`: the scene has {} forces", spec.forces.len())
             })?;
             InputLoad::Force(Box::new(match &f.kind {
                 // A profiled force's input is the same: an added force
@@ -134,13 +134,20 @@ pub fn inputs(
                     let dir = Vector3::from(*force);
                     let norm = dir.norm();
                     if !(norm > 0.0) {
-                        return Err(format!("input `{name}`: force {k} is zero and has no direction").into());
+                        return Err(format!(
+                            "input `{qn}`: force {k} is zero and has no direction"
+                        )
+                        .into());
                     }
                     let unit = dir / norm;
                     ForceElement::Point {
                         marker: super::build::marker(sys, at)?,
                         force: Arc::new(move |_| unit),
-                        axes: if *follower { ForceAxes::Marker } else { ForceAxes::Global },
+                        axes: if *follower {
+                            ForceAxes::Marker
+                        } else {
+                            ForceAxes::Global
+                        },
                     }
                 }
                 ForceKind::Torque { a, b, .. } => ForceElement::Torque {
@@ -150,14 +157,14 @@ pub fn inputs(
                 },
                 _ => {
                     return Err(format!(
-                        "input `{name}`: force {k} is a spring–damper, part of the system, not an input"
-                    )
+                    "input `{qn}`: force {k} is a spring–damper, part of the system, not an input"
+                )
                     .into())
                 }
             }))
         } else {
             return Err(format!(
-                "unknown input `{name}`: inputs are `jointN` (a torque in revolute joint N), `forceN` (the amplitude of force N) and `driveN` (the acceleration of joint N's drive); this scene's defaults are: {}",
+                "unknown input `{qn}`: inputs are `jointN` (a torque in revolute joint N), `forceN` (the amplitude of force N) and `driveN` (the acceleration of joint N's drive); this scene's defaults are: {}",
                 avail()
             )
             .into());
@@ -213,15 +220,16 @@ pub fn outputs(scene: &Scene, names: &[String]) -> crate::Result<Vec<LinearOutpu
     names
         .iter()
         .map(|name| {
+            let qn = crate::runtime::spec::text::quoted(name);
             let o = scene.outputs.iter().find(|o| &o.name == name).ok_or_else(|| {
                 format!(
-                    "unknown output `{name}`: the scene's linear outputs are: {}",
+                    "unknown output `{qn}`: the scene's linear outputs are: {}",
                     default_outputs(scene).join(", ")
                 )
             })?;
             if matches!(o.kind, OutputKind::Energy(_)) {
                 return Err(format!(
-                    "output `{name}` is an energy, not a linear output (positions, velocities, deflections and angles are)"
+                    "output `{qn}` is an energy, not a linear output (positions, velocities, deflections and angles are)"
                 )
                 .into());
             }
@@ -235,12 +243,35 @@ pub fn outputs(scene: &Scene, names: &[String]) -> crate::Result<Vec<LinearOutpu
         .collect()
 }
 
-/// The scene's state at `at`.
+/// The shortest positive operating time, in steps `dt` of the scene: a
+/// time run to `T` takes one step of `T` when `T < dt`, and a step much
+/// shorter than the scene's makes an iteration matrix `∝ 1/T²` that no
+/// longer represents the dynamics (below about `10⁻¹⁵⁴ s` it overflows);
+/// the state at such a time is the initial state to within `T/dt` of one
+/// step's motion: `--at 0`.
+pub const MIN_OPERATING_TIME_IN_STEPS: f64 = 1e-12;
+
+/// The scene's state at `at`, checked by the validity check every state
+/// passes ([`crate::runtime::monitor::check_state`]: finite, each flexible
+/// body deformed by less than its size, finite energy): the static
+/// equilibrium (checked by its solver), the initial state (`T = 0`) or the
+/// state a time run reaches at `T` (its divergence monitor on, the last
+/// state checked). A time `0 < T <` [`MIN_OPERATING_TIME_IN_STEPS`] `× dt`
+/// is refused (use `T = 0`).
 pub fn operating_state(scene: &Scene, at: At) -> crate::Result<State> {
     let sys = &scene.system;
+    let checked = |state: State, what: String| -> crate::Result<State> {
+        match crate::runtime::monitor::check_state(sys, &state.q, &state.v) {
+            Ok(()) => Ok(state),
+            Err(why) => {
+                Err(format!("{what} is not valid: {why}; no linear model is taken about it").into())
+            }
+        }
+    };
     match at {
         At::Static => {
-            // The solver of `ffr static` (automatic load stepping).
+            // The solver of `ffr static` (automatic load stepping), which
+            // applies the validity check to the equilibrium it reaches.
             let start = sys.initial_state(0.0)?;
             Ok(crate::runtime::statics::static_equilibrium(
                 sys,
@@ -251,14 +282,21 @@ pub fn operating_state(scene: &Scene, at: At) -> crate::Result<State> {
             .state)
         }
         At::Time(t) if !(t.is_finite() && t >= 0.0) => {
-            Err(format!("--at {t}: a time must be finite and ≥ 0").into())
+            Err(format!("--at {}: a time must be finite and ≥ 0", short(t)).into())
         }
-        At::Time(0.0) => Ok(sys.initial_state(0.0)?),
+        At::Time(0.0) => checked(sys.initial_state(0.0)?, "the initial state".into()),
+        At::Time(t) if t < MIN_OPERATING_TIME_IN_STEPS * scene.dt => Err(format!(
+            "--at {}: a time below {MIN_OPERATING_TIME_IN_STEPS:e} × the scene's step dt = {} s is the initial state to within round-off (and a step that short is not one the integrator can take): use --at 0 for the initial state, or a time of at least {} s",
+            short(t),
+            short(scene.dt),
+            short(MIN_OPERATING_TIME_IN_STEPS * scene.dt)
+        )
+        .into()),
         At::Time(t) => {
             let s = sys.simulate(t, scene.dt.min(t), &scene.integrator, |_| {
                 ControlFlow::Continue(())
             })?;
-            Ok(s.last)
+            checked(s.last, format!("the state at t = {} s", short(t)))
         }
     }
 }
@@ -299,6 +337,12 @@ pub fn linearize_scene(
         Some(n) => outputs(&scene, n)?,
         None => outputs(&scene, &default_outputs(&scene))?,
     };
+    // Refuse a model too large to hold densely before the run to `T`.
+    let drives = ins
+        .iter()
+        .filter(|i| matches!(i.load, InputLoad::Drive { .. }))
+        .count();
+    crate::runtime::linear::check_dense_size(&scene.system, drives)?;
     let state = operating_state(&scene, at)?;
     Ok(linearize(&scene.system, &state, &ins, &outs)?)
 }
@@ -342,8 +386,12 @@ fn motion_kind(label: &str) -> String {
 /// kinetic-energy participation `Re(q̄_i (M q)_i)` of each coordinate kind
 /// in the eigenvector (inverse iteration on `λ²M̂ + λĈ + K̂`; the modes of
 /// a repeated eigenvalue `M̂`-orthogonal to each other).
-pub fn modes(sys_labels: &[String], model: &LinearModel, count: usize) -> Vec<CampbellMode> {
-    let ev = eigenvalues(&model.a);
+pub fn modes(
+    sys_labels: &[String],
+    model: &LinearModel,
+    count: usize,
+) -> crate::Result<Vec<CampbellMode>> {
+    let ev = eigenvalues(&model.a)?;
     let nz = model.independent.len();
     let mut out = Vec::new();
     // The eigenvectors of the current cluster of equal eigenvalues (a double
@@ -381,7 +429,7 @@ pub fn modes(sys_labels: &[String], model: &LinearModel, count: usize) -> Vec<Ca
             vector,
         });
     }
-    out
+    Ok(out)
 }
 
 /// The label of the mode of eigenvalue `l` and its vector `z` (independent
@@ -548,13 +596,142 @@ pub fn campbell(
     })
 }
 
+/// A mode whose damping ratio is below this is growing (undamped modes
+/// come out at `|ζ| ≈ 10⁻¹⁶`).
+const GROWING_ZETA: f64 = -1e-6;
+
+/// At most this many growing modes are named in one warning (the rest
+/// counted).
+const NAMED_GROWING: usize = 4;
+
+/// A number in short form: `{:?}` (shortest round trip) between 10⁻³ and
+/// 10⁶, else `{:e}` (`1e15`, not `1000000000000000.0`).
+fn short(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e6).contains(&x.abs()) || !x.is_finite() {
+        format!("{x:?}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// The warning of a Campbell speed `w` whose `modes` include growing ones:
+/// `ζ = −1` (a real eigenvalue `λ > 0`: a divergence, the two eigenvalues
+/// of a pair that spin softening has brought through zero frequency, as
+/// for a body without stiffening or an FE body) or `−1 < ζ < 0` (a
+/// flutter: an oscillation that grows). Eigenvalues at round-off of zero
+/// (below `10⁻⁹` of the speed and of the largest `|λ|` listed) are not
+/// counted.
+pub fn divergence_warning(w: f64, modes: &[CampbellMode]) -> Option<String> {
+    let scale = modes
+        .iter()
+        .map(|m| m.omega)
+        .fold(w.abs().max(1.0), f64::max);
+    let growing: Vec<String> = modes
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| m.zeta < GROWING_ZETA && m.omega > 1e-9 * scale)
+        .map(|(k, m)| {
+            let kind = if m.zeta <= -1.0 + 1e-9 {
+                "divergent"
+            } else {
+                "flutter"
+            };
+            format!(
+                "mode {} ({}, |λ| = {:.4e} rad/s, ζ = {:.3e}, {kind})",
+                k + 1,
+                crate::runtime::spec::text::quoted(&m.label),
+                m.omega,
+                m.zeta
+            )
+        })
+        .collect();
+    if growing.is_empty() {
+        return None;
+    }
+    let count = growing.len();
+    let mut named = growing[..count.min(NAMED_GROWING)].join(", ");
+    if count > NAMED_GROWING {
+        named.push_str(&format!(" and {} more", count - NAMED_GROWING));
+    }
+    let (verb, tail) = if growing.len() == 1 {
+        ("grows", "its frequency is not a vibration of the rotor")
+    } else {
+        ("grow", "their frequencies are not vibrations of the rotor")
+    };
+    Some(format!(
+        "Ω = {} rad/s: the steady rotation is unstable: {named} {verb} (ζ = −1: a real eigenvalue λ > 0, one of a divergent pair — a frequency that spin softening brought through zero, as for a body without geometric stiffening or an FE body; −1 < ζ < 0: an oscillation that grows); {tail}",
+        short(w)
+    ))
+}
+
+/// Refuse a Campbell diagram of joint `ji` (0-based) whose turning bodies
+/// (`turning_bodies`) include one held to the ground by another joint: such
+/// a body cannot turn rigidly with the rotor (the slider of a slider-crank
+/// on its prismatic joint), so there is no steady rotating state. A second
+/// revolute joint to the ground on the rotor's own axis (a bearing:
+/// ground point on the axis, axes about z only) is allowed.
+fn held_to_ground(spec: &SceneSpec, ji: usize) -> crate::Result<()> {
+    let turning = turning_bodies(spec, ji);
+    let driven = &spec.joints[ji];
+    let axis = match driven.a.as_ref().map(|a| a.point) {
+        Some(MarkerPoint::Ground(p)) => p,
+        _ => return Ok(()),
+    };
+    let body_of = |m: &crate::runtime::spec::scene::MarkerSpec| match m.point {
+        MarkerPoint::Ground(_) => None,
+        MarkerPoint::Origin(b)
+        | MarkerPoint::Axis(b, _)
+        | MarkerPoint::Point(b, _)
+        | MarkerPoint::Node(b, _) => Some(b),
+    };
+    for (k, j) in spec.joints.iter().enumerate() {
+        if k == ji {
+            continue;
+        }
+        let ground = match &j.a {
+            None => Some(axis).filter(|_| j.kind == JointKind::Ground),
+            Some(a) => match a.point {
+                MarkerPoint::Ground(p) => Some(p),
+                _ => None,
+            },
+        };
+        let (Some(p), Some(b)) = (ground, body_of(&j.b)) else {
+            continue;
+        };
+        if !turning.contains(&b) {
+            continue;
+        }
+        let bearing = j.kind == JointKind::Revolute
+            && p[0] == axis[0]
+            && p[1] == axis[1]
+            && j.a.as_ref().and_then(|a| a.axes).is_none();
+        if bearing {
+            continue;
+        }
+        let name = crate::runtime::spec::text::quoted(&spec.bodies[b].name);
+        return Err(crate::SceneError {
+            location: Some(j.at.clone()),
+            message: format!(
+                "joint {} (a {} joint of body `{name}` to the ground) holds a body that turns with joint {} (joined to its rotor through the other joints), so it cannot turn rigidly with it: the scene has no steady rotating state to linearize about; a Campbell diagram needs a rotor whose bodies are joined to the ground only by the driven joint",
+                k + 1,
+                j.kind.name(),
+                ji + 1
+            ),
+        }
+        .into());
+    }
+    Ok(())
+}
+
 /// The joint a Campbell diagram turns: `joint` (0-based in `[[joints]]`),
-/// which must be a revolute joint with a drive, or the first such joint.
+/// which must be a revolute joint with a drive, or the first such joint;
+/// a scene with a body that turns with it but is held to the ground by
+/// another joint (no steady rotating state) is refused.
 pub fn campbell_joint(spec: &SceneSpec, joint: Option<usize>) -> crate::Result<usize> {
     let driven = |j: &crate::runtime::spec::scene::JointSpec| {
         j.kind == JointKind::Revolute && j.drive.is_some()
     };
-    Ok(match joint {
+    let ji = match joint {
         Some(k) => {
             let j = spec.joints.get(k).ok_or_else(|| {
                 format!("--joint {}: the scene has {} joints", k + 1, spec.joints.len())
@@ -573,7 +750,9 @@ pub fn campbell_joint(spec: &SceneSpec, joint: Option<usize>) -> crate::Result<u
         None => spec.joints.iter().position(driven).ok_or(
             "the scene has no revolute joint with a drive: a Campbell diagram turns one at constant speeds",
         )?,
-    })
+    };
+    held_to_ground(spec, ji)?;
+    Ok(ji)
 }
 
 /// What [`campbell_with`] calls at each speed: its index, the scene built
@@ -643,22 +822,29 @@ pub fn campbell_with(
         | ProfileSpec::Harmonic { start, .. } => start,
         ProfileSpec::Constant(v) => v,
     };
-    let warnings = stiffening_warnings(spec, ji);
+    let mut warnings = stiffening_warnings(spec, ji);
+    if let Some(w) = speeds.iter().find(|w| !w.is_finite()) {
+        return Err(format!("--speeds: {w} is not a finite rate").into());
+    }
     let mut modes = Vec::with_capacity(speeds.len());
     for (i, &w) in speeds.iter().enumerate() {
-        if !w.is_finite() {
-            return Err(format!("--speeds: {w} is not a finite rate").into());
-        }
         let mut s = spec.clone();
         s.joints[ji].drive = Some((ProfileSpec::ConstantRate { start, rate: w }, at.clone()));
         let scene = super::build(&s, provider)?;
         let sys = &scene.system;
-        let init = sys.initial_state(0.0)?;
+        let at_speed = |e: &dyn std::fmt::Display| format!("Ω = {} rad/s: {e}", short(w));
+        crate::runtime::linear::check_dense_size(sys, 0).map_err(|e| at_speed(&e))?;
+        let init = sys.initial_state(0.0).map_err(|e| at_speed(&e))?;
+        // The steady state passes the validity check in its solver
+        // (`crate::runtime::monitor::check_state`).
         let state = steady_state(sys, 0.0, &init, SteadyMotion::Rotation { center, omega: w })
-            .map_err(|e| format!("Ω = {w} rad/s: {e}"))?;
-        let model = linearize(sys, &state, &[], &[])?;
+            .map_err(|e| at_speed(&e))?;
+        let model = linearize(sys, &state, &[], &[]).map_err(|e| at_speed(&e))?;
         let labels = crate::runtime::linear::coordinate_labels(sys);
-        let m = self::modes(&labels, &model, count);
+        let m = self::modes(&labels, &model, count).map_err(|e| at_speed(&e))?;
+        if let Some(d) = divergence_warning(w, &m) {
+            warnings.push(d);
+        }
         each(i, &scene, &state, &m)?;
         modes.push(m);
     }

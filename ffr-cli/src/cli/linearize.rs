@@ -95,9 +95,9 @@ fn rows(m: &DMatrix<f64>) -> Vec<Vec<f64>> {
 
 /// The JSON of a linear model: `{states, inputs, outputs, A, B, C, D,
 /// eigenvalues}` (matrices as nested row lists, eigenvalues `[re, im]`).
-pub fn linear_json(m: &LinearModel) -> Value {
-    let ev: Vec<[f64; 2]> = eigenvalues(&m.a).iter().map(|l| [l.re, l.im]).collect();
-    json!({
+pub fn linear_json(m: &LinearModel) -> Result<Value, Box<dyn Error>> {
+    let ev: Vec<[f64; 2]> = eigenvalues(&m.a)?.iter().map(|l| [l.re, l.im]).collect();
+    Ok(json!({
         "states": m.states,
         "inputs": m.inputs,
         "outputs": m.outputs,
@@ -106,7 +106,7 @@ pub fn linear_json(m: &LinearModel) -> Value {
         "C": rows(&m.c),
         "D": rows(&m.d),
         "eigenvalues": ev,
-    })
+    }))
 }
 
 /// The first line of the Matrix Market files `linearize --out` writes.
@@ -166,7 +166,7 @@ pub fn linearize(args: &LinearizeArgs) -> Result<LinearModel, Box<dyn Error>> {
         outputs.as_deref(),
     )
     .map_err(|e| located(&args.scene, e))?;
-    let js = linear_json(&model);
+    let js = linear_json(&model).map_err(|e| format!("{}: {e}", args.scene.display()))?;
     if let Some(dir) = &args.out {
         write_dir(dir, &model, &js)?;
     }
@@ -276,7 +276,7 @@ fn print_summary(scene: &Path, m: &LinearModel) -> Result<(), Box<dyn Error>> {
         "|λ|/2π (Hz)",
         "ζ"
     )?;
-    let ev = eigenvalues(&m.a);
+    let ev = eigenvalues(&m.a)?;
     for (k, l) in ev.iter().enumerate() {
         let w = l.norm();
         let zeta = if w > 0.0 { -l.re / w } else { 0.0 };
@@ -388,6 +388,12 @@ pub fn campbell(args: &CampbellArgs) -> Result<Campbell, Box<dyn Error>> {
         &mut write,
     )
     .map_err(|e| located(&args.scene, e))?;
+    // The warnings found while computing (growing modes at a speed), after
+    // the stiffening warnings printed above.
+    let before = ffr::scene::linear::stiffening_warnings(&spec, ji).len();
+    for w in c.warnings.iter().skip(before) {
+        eprintln!("warning: {}: {w}", args.scene.display());
+    }
     if let Some(p) = &args.svg {
         let svg = campbell_svg(&c, &spec.description.clone().unwrap_or_default())?;
         output::write_atomic(p, svg.as_bytes())?;
@@ -401,7 +407,7 @@ pub fn campbell(args: &CampbellArgs) -> Result<Campbell, Box<dyn Error>> {
             c.joint + 1
         )?;
         for (w, ms) in c.speeds.iter().zip(&c.modes) {
-            crate::outln!("Ω = {w} rad/s")?;
+            crate::outln!("Ω = {} rad/s", output::number(*w))?;
             for (k, m) in ms.iter().enumerate() {
                 crate::outln!(
                     "{:>5} {:>20.10} rad/s {:>16.8} Hz  ζ = {:>10.3e}  {}",
