@@ -24,15 +24,15 @@
 //!   frame (Newton on the residual) and the eigenvalues about it.
 
 use crate::runtime::linear::{
-    eigenvalues, linearize, steady_state, InputLoad, LinearInput, LinearModel, LinearOutput,
-    SteadyMotion,
+    eigenvalues, linearize, steady_state_interruptible, InputLoad, LinearInput, LinearModel,
+    LinearOutput, SteadyMotion,
 };
 use crate::runtime::nalgebra::{Complex, DMatrix, DVector, Vector3};
 use crate::runtime::spec::scene::{
     BodyKind, ForceKind, JointKind, MarkerPoint, Orientation, ProfileSpec, SceneSpec,
 };
 use crate::runtime::spec::FrameModel;
-use crate::runtime::{ForceAxes, ForceElement, State, TorqueLaw};
+use crate::runtime::{ForceAxes, ForceElement, Interrupt, State, TorqueLaw};
 use crate::scene::model::{OutputKind, Scene};
 use crate::scene::provider::KernelProvider;
 use std::ops::ControlFlow;
@@ -237,16 +237,29 @@ pub fn outputs(scene: &Scene, names: &[String]) -> crate::Result<Vec<LinearOutpu
 
 /// The scene's state at `at`.
 pub fn operating_state(scene: &Scene, at: At) -> crate::Result<State> {
+    operating_state_interruptible(scene, at, Interrupt::NEVER)
+}
+
+/// [`operating_state`], polling `interrupt` after every step of the run to
+/// `T` or Newton iteration of the static solver
+/// ([`crate::runtime::Error::Interrupted`] when it asks to stop).
+pub fn operating_state_interruptible(
+    scene: &Scene,
+    at: At,
+    interrupt: Interrupt<'_>,
+) -> crate::Result<State> {
     let sys = &scene.system;
     match at {
         At::Static => {
             // The solver of `ffr static` (automatic load stepping).
             let start = sys.initial_state(0.0)?;
-            Ok(crate::runtime::statics::static_equilibrium(
+            Ok(crate::runtime::statics::equilibrium_interruptible(
                 sys,
                 0.0,
                 &start,
+                SteadyMotion::Rest,
                 &crate::runtime::statics::StaticOptions::default(),
+                interrupt,
             )?
             .state)
         }
@@ -256,8 +269,15 @@ pub fn operating_state(scene: &Scene, at: At) -> crate::Result<State> {
         At::Time(0.0) => Ok(sys.initial_state(0.0)?),
         At::Time(t) => {
             let s = sys.simulate(t, scene.dt.min(t), &scene.integrator, |_| {
-                ControlFlow::Continue(())
+                if interrupt.requested() {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
             })?;
+            if s.stopped {
+                return Err(crate::runtime::Error::Interrupted.into());
+            }
             Ok(s.last)
         }
     }
@@ -275,6 +295,26 @@ pub fn linearize_scene(
     at: At,
     input_names: Option<&[String]>,
     output_names: Option<&[String]>,
+) -> crate::Result<LinearModel> {
+    linearize_scene_interruptible(
+        spec,
+        provider,
+        at,
+        input_names,
+        output_names,
+        Interrupt::NEVER,
+    )
+}
+
+/// [`linearize_scene`], polling `interrupt` while it finds the operating
+/// state ([`operating_state_interruptible`]).
+pub fn linearize_scene_interruptible(
+    spec: &SceneSpec,
+    provider: &dyn KernelProvider,
+    at: At,
+    input_names: Option<&[String]>,
+    output_names: Option<&[String]>,
+    interrupt: Interrupt<'_>,
 ) -> crate::Result<LinearModel> {
     let default_in = default_inputs(spec);
     let names = input_names.unwrap_or(&default_in);
@@ -299,7 +339,8 @@ pub fn linearize_scene(
         Some(n) => outputs(&scene, n)?,
         None => outputs(&scene, &default_outputs(&scene))?,
     };
-    let state = operating_state(&scene, at)?;
+    let state = operating_state_interruptible(&scene, at, interrupt)?;
+    interrupt.check()?;
     Ok(linearize(&scene.system, &state, &ins, &outs)?)
 }
 
@@ -592,6 +633,21 @@ pub fn campbell_with(
     count: usize,
     each: &mut EachSpeed<'_>,
 ) -> crate::Result<Campbell> {
+    campbell_interruptible(spec, provider, speeds, joint, count, each, Interrupt::NEVER)
+}
+
+/// [`campbell_with`], polling `interrupt` at every speed and every Newton
+/// iteration of its steady state ([`crate::runtime::Error::Interrupted`]
+/// when it asks to stop).
+pub fn campbell_interruptible(
+    spec: &SceneSpec,
+    provider: &dyn KernelProvider,
+    speeds: &[f64],
+    joint: Option<usize>,
+    count: usize,
+    each: &mut EachSpeed<'_>,
+    interrupt: Interrupt<'_>,
+) -> crate::Result<Campbell> {
     let ji = campbell_joint(spec, joint)?;
     let j = &spec.joints[ji];
     let center = match j.a.as_ref().map(|a| a.point) {
@@ -646,6 +702,7 @@ pub fn campbell_with(
     let warnings = stiffening_warnings(spec, ji);
     let mut modes = Vec::with_capacity(speeds.len());
     for (i, &w) in speeds.iter().enumerate() {
+        interrupt.check()?;
         if !w.is_finite() {
             return Err(format!("--speeds: {w} is not a finite rate").into());
         }
@@ -654,8 +711,17 @@ pub fn campbell_with(
         let scene = super::build(&s, provider)?;
         let sys = &scene.system;
         let init = sys.initial_state(0.0)?;
-        let state = steady_state(sys, 0.0, &init, SteadyMotion::Rotation { center, omega: w })
-            .map_err(|e| format!("Ω = {w} rad/s: {e}"))?;
+        let state = steady_state_interruptible(
+            sys,
+            0.0,
+            &init,
+            SteadyMotion::Rotation { center, omega: w },
+            interrupt,
+        )
+        .map_err(|e| match e {
+            crate::runtime::Error::Interrupted => crate::Error::from(e),
+            e => format!("Ω = {w} rad/s: {e}").into(),
+        })?;
         let model = linearize(sys, &state, &[], &[])?;
         let labels = crate::runtime::linear::coordinate_labels(sys);
         let m = self::modes(&labels, &model, count);

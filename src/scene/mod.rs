@@ -46,4 +46,4 @@ pub use model::{EnergyPart, Output, OutputKind, Scene, MAX_RECORDED_VALUES};
 pub use provider::KernelProvider;
 #[cfg(feature = "scene-files")]
 pub use provider::{DefaultKernels, GeneralKernels};
-pub use run::{run, run_with, RunOptions, SceneRun};
+pub use run::{run, run_interruptible, run_with, RunOptions, SceneRun};
