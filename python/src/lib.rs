@@ -44,7 +44,7 @@ create_exception!(
     ffr,
     SimulationError,
     FfrError,
-    "A run or an analysis that failed (no convergence, divergence, a singular matrix): why, and when."
+    "A run or an analysis that failed (no convergence, divergence, a singular matrix, outputs that are not finite): why, and when. From Scene.run(), `run` is the RunResult of the samples up to the failure (None before the first sample and for the other calls)."
 );
 
 /// The longest message of an exception from the library, in characters

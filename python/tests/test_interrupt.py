@@ -61,8 +61,9 @@ def child(setup):
 
 # Long variants of the shipped scenes and a short check afterwards.
 # Uninterrupted they would take about 50 s (run, linearize: 4 million
-# steps), 10 minutes (campbell: 29 ms a speed) and 30 s (static: 2.9 ms an
-# increment), estimated from shorter calls on a loaded 2-core machine.
+# steps), 15 s (campbell: 500 speeds of 29 ms) and 30 s (static: 10 000
+# increments of 2.9 ms), estimated from shorter calls on a loaded 2-core
+# machine.
 RUN = """
 s = ffr.Scene.load(SCENES + "/spin_up.toml")
 s.update({"bodies.beam.elements": 32, "dt": 5e-4, "t_end": 2000.0})
@@ -84,7 +85,7 @@ CAMPBELL = """
 import numpy as np
 s = ffr.Scene.load(SCENES + "/spin_up.toml")
 s.set("bodies.beam.elements", 32)
-call = lambda: ffr.campbell(s, list(np.linspace(0.0, 4.0, 20000)), count=2)
+call = lambda: ffr.campbell(s, list(np.linspace(0.0, 4.0, 500)), count=2)
 def after():
     assert len(ffr.campbell(s, [1.0], count=2)["modes"]) == 1
 """
