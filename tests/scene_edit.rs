@@ -284,3 +284,143 @@ fn a_marker_is_set_as_a_string_or_a_table() {
         "{e}"
     );
 }
+
+/// A key set again replaces its earlier value (also spelt with a leading
+/// zero, the same array entry), a whole value replaces the keys set inside
+/// it, and 20 000 sets of one key keep one override: the list, and the
+/// error messages that name it, stay short.
+#[test]
+fn a_key_set_again_replaces_its_value() {
+    let mut s = spin_up();
+    for i in 0..20_000 {
+        s.set("t_end", SceneValue::Float(1.0 + i as f64)).unwrap();
+    }
+    assert_eq!(
+        s.overrides(),
+        &[("t_end".into(), SceneValue::Float(20_000.0))]
+    );
+    s.set("joints.0.drive.omega", 2.0.into()).unwrap();
+    s.set("joints.00.drive.omega", 3.0.into()).unwrap();
+    let keys: Vec<&str> = s.overrides().iter().map(|(k, _)| k.as_str()).collect();
+    assert_eq!(keys, ["t_end", "joints.00.drive.omega"]);
+    assert_eq!(s.get("joints.0.drive.omega"), Some(SceneValue::Float(3.0)));
+    // The drive as a whole: the key inside it is dropped.
+    s.set(
+        "joints.0.drive",
+        SceneValue::Table(vec![
+            ("angle".into(), "constant-rate".into()),
+            ("omega".into(), 1.0.into()),
+        ]),
+    )
+    .unwrap();
+    let keys: Vec<&str> = s.overrides().iter().map(|(k, _)| k.as_str()).collect();
+    assert_eq!(keys, ["t_end", "joints.0.drive"]);
+    // The keys named in a message: each once, in the order last set.
+    s.set("bodies.beam.params.e", 7e10.into()).unwrap();
+    s.set("bodies.beam.elements", 0.into()).unwrap();
+    let e = s.spec().unwrap_err().to_string();
+    assert!(
+        e.ends_with(
+            "(with t_end = 20000.0, joints.0.drive = { angle = \"constant-rate\", omega = 1.0 }, bodies.beam.params.e = 70000000000.0, bodies.beam.elements = 0)"
+        ),
+        "{e}"
+    );
+}
+
+/// At most `MAX_OVERRIDES` distinct keys, the bound named in the refusal;
+/// an error message lists 8 of them and counts the rest.
+#[test]
+fn distinct_keys_are_bounded_and_listed_briefly() {
+    use ffr::scene::edit::MAX_OVERRIDES;
+    let rows = MAX_OVERRIDES + 10;
+    let table = (0..rows)
+        .map(|i| format!("[{i}.0, 0.0]"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let text = format!(
+        "t_end = 1.0\ndt = 0.1\n[[forces]]\nkind = \"point\"\nat = \"ground\"\nforce = [1.0, 0.0]\nprofile = {{ table = [{table}] }}\n"
+    );
+    let mut s = SceneText::parse(&text, "big.toml", Path::new(".")).unwrap();
+    for i in 0..MAX_OVERRIDES {
+        s.set(&format!("forces.0.profile.table.{i}.1"), 1.0.into())
+            .unwrap();
+    }
+    let e = s
+        .set(
+            &format!("forces.0.profile.table.{MAX_OVERRIDES}.1"),
+            1.0.into(),
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("more than 256 distinct keys") && e.contains("MAX_OVERRIDES"),
+        "{e}"
+    );
+    // A key set before is still replaced; the whole table replaces them all.
+    s.set("forces.0.profile.table.0.1", 2.0.into()).unwrap();
+    assert_eq!(s.overrides().len(), MAX_OVERRIDES);
+    s.set("t_end", 0.0.into()).unwrap_err();
+    s.set(
+        "forces.0.profile.table",
+        SceneValue::Array(vec![SceneValue::Array(vec![0.0.into(), 1.0.into()])]),
+    )
+    .unwrap();
+    assert_eq!(s.overrides().len(), 1);
+    for i in 0..20 {
+        s.set(&format!("x{i}"), 1.0.into()).unwrap();
+    }
+    let e = s.spec().unwrap_err().to_string();
+    assert!(e.ends_with(", and 13 more)"), "{e}");
+    assert!(e.len() < 1000, "{e}");
+}
+
+/// `get` of a table and of an array of tables gives them (as the file
+/// holds them), not `None`.
+#[test]
+fn get_gives_tables_and_arrays_of_tables() {
+    let s = spin_up();
+    let Some(SceneValue::Table(bodies)) = s.get("bodies") else {
+        panic!("{:?}", s.get("bodies"))
+    };
+    assert_eq!(bodies.len(), 1);
+    assert_eq!(bodies[0].0, "beam");
+    let SceneValue::Table(beam) = &bodies[0].1 else {
+        panic!("{bodies:?}")
+    };
+    assert!(beam.contains(&("elements".into(), SceneValue::Int(8))));
+    assert_eq!(s.get("bodies.beam"), Some(bodies[0].1.clone()));
+    let Some(SceneValue::Array(joints)) = s.get("joints") else {
+        panic!("{:?}", s.get("joints"))
+    };
+    assert_eq!(joints.len(), 1);
+    assert_eq!(s.get("joints.0"), Some(joints[0].clone()));
+    let Some(SceneValue::Array(outputs)) = s.get("outputs") else {
+        panic!()
+    };
+    assert_eq!(outputs.len(), 2);
+    assert_eq!(s.get("nothing"), None);
+}
+
+/// User text in the messages of `set` is escaped (a key with an escape
+/// sequence, a bidi override, a newline) and cut.
+#[test]
+fn keys_in_messages_are_escaped() {
+    let mut s = spin_up();
+    for key in [
+        "bodies.\u{1b}]0;owned\u{7}\u{1b}[2J.e",
+        "bodies.beam.position.\u{202e}1",
+        "joints.0.drive.omega.x\ny",
+        "t_end.\u{1b}[31m",
+    ] {
+        let e = s.set(key, 1.0.into()).unwrap_err().to_string();
+        assert!(
+            !e.chars()
+                .any(|c| c.is_control() || ('\u{202a}'..='\u{202e}').contains(&c)),
+            "{e:?}"
+        );
+        assert!(e.contains("\\u{") || e.contains("\\n"), "{e}");
+    }
+    let long = format!("nope.{}", "z".repeat(400));
+    let e = s.set(&long, 1.0.into()).unwrap_err().to_string();
+    assert!(e.len() < 400, "{e}");
+}

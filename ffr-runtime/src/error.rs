@@ -109,6 +109,9 @@ pub enum Error {
         /// stepping got.
         reason: String,
     },
+    /// The caller asked the computation to stop ([`crate::Interrupt`]).
+    #[error("interrupted")]
+    Interrupted,
     /// Initial conditions could not be made consistent with the constraints.
     #[error(
         "inconsistent initial conditions: constraint violation {violation:.3e} after projection"

@@ -24,6 +24,7 @@ pub mod force;
 mod inertia;
 pub mod initial;
 pub mod integrator;
+pub mod interrupt;
 pub mod joint;
 pub mod kernel;
 pub mod kernel_body;
@@ -55,6 +56,7 @@ pub use error::{Error, Result};
 pub use ffr_spec as spec;
 pub use force::{ForceAxes, ForceElement, TorqueLaw};
 pub use integrator::{GeneralizedAlpha, Integrator, Rk4Baumgarte, State, StepView, Summary};
+pub use interrupt::Interrupt;
 pub use joint::Constraint;
 pub use kernel::{
     CompiledBody, ElementKernels, KernelInfo, KernelInput, MassOut, ResidualOut, TangentOut,

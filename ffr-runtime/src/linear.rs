@@ -727,12 +727,25 @@ pub fn steady_state<B: Body>(
     start: &State,
     motion: SteadyMotion,
 ) -> Result<State> {
-    crate::statics::equilibrium(
+    steady_state_interruptible(sys, t, start, motion, crate::Interrupt::NEVER)
+}
+
+/// [`steady_state`], polling `interrupt` at every Newton iteration
+/// ([`crate::statics::equilibrium_interruptible`]).
+pub fn steady_state_interruptible<B: Body>(
+    sys: &System<B>,
+    t: f64,
+    start: &State,
+    motion: SteadyMotion,
+    interrupt: crate::Interrupt<'_>,
+) -> Result<State> {
+    crate::statics::equilibrium_interruptible(
         sys,
         t,
         start,
         motion,
         &crate::statics::StaticOptions::default(),
+        interrupt,
     )
     .map(|e| e.state)
 }

@@ -84,6 +84,7 @@ use crate::assembly::Assembly;
 use crate::body::Body;
 use crate::error::{Error, Result};
 use crate::integrator::State;
+use crate::interrupt::Interrupt;
 use crate::linear::{steady_rates, SteadyMotion};
 use crate::system::System;
 use nalgebra::DMatrix;
@@ -168,6 +169,19 @@ pub fn equilibrium<B: Body>(
     motion: SteadyMotion,
     options: &StaticOptions,
 ) -> Result<Equilibrium> {
+    equilibrium_interruptible(sys, t, start, motion, options, Interrupt::NEVER)
+}
+
+/// [`equilibrium`], polling `interrupt` at every Newton iteration: when it
+/// asks to stop, [`Error::Interrupted`].
+pub fn equilibrium_interruptible<B: Body>(
+    sys: &System<B>,
+    t: f64,
+    start: &State,
+    motion: SteadyMotion,
+    options: &StaticOptions,
+    interrupt: Interrupt<'_>,
+) -> Result<Equilibrium> {
     if let Some(k) = options.steps {
         if !(1..=MAX_STEPS).contains(&k) {
             return Err(Error::InvalidInput(format!(
@@ -196,7 +210,7 @@ pub fn equilibrium<B: Body>(
             start.q.len()
         )));
     }
-    let mut path = Path::new(sys, t, motion)?;
+    let mut path = Path::new(sys, t, motion, interrupt)?;
     path.run(start, options)
 }
 
@@ -212,6 +226,8 @@ enum Failure {
     /// An equilibrium was found that is not unique (`singular`) or not
     /// stable: no smaller increment changes that.
     Fatal { singular: bool, why: String },
+    /// The caller asked to stop ([`Interrupt`]).
+    Interrupted,
 }
 
 /// The outcome of one factorization.
@@ -225,6 +241,7 @@ enum Factored {
 struct Path<'s, B: Body> {
     asm: Assembly<'s, B>,
     sys: &'s System<B>,
+    interrupt: Interrupt<'s>,
     t: f64,
     motion: SteadyMotion,
     what: &'static str,
@@ -259,7 +276,12 @@ struct Path<'s, B: Body> {
 }
 
 impl<'s, B: Body> Path<'s, B> {
-    fn new(sys: &'s System<B>, t: f64, motion: SteadyMotion) -> Result<Self> {
+    fn new(
+        sys: &'s System<B>,
+        t: f64,
+        motion: SteadyMotion,
+        interrupt: Interrupt<'s>,
+    ) -> Result<Self> {
         let asm = Assembly::new(sys)?;
         let (n, m) = (asm.n, asm.m);
         let free = asm.free_coordinates();
@@ -292,6 +314,7 @@ impl<'s, B: Body> Path<'s, B> {
         Ok(Self {
             asm,
             sys,
+            interrupt,
             t,
             motion,
             what: match motion {
@@ -562,6 +585,9 @@ impl<'s, B: Body> Path<'s, B> {
         let mut pure = 0usize;
         let mut last = f64::INFINITY;
         for _ in 0..MAX_ITERATIONS {
+            if self.interrupt.requested() {
+                return Err(Failure::Interrupted);
+            }
             let mut shifts = 0;
             loop {
                 let f = self.evaluate(load, q, lam, mu);
@@ -675,6 +701,7 @@ impl<'s, B: Body> Path<'s, B> {
             Failure::Stuck(why) => why.clone(),
             Failure::NonFinite => "the residual is not finite".to_string(),
             Failure::Fatal { why, .. } => why.clone(),
+            Failure::Interrupted => "interrupted".to_string(),
         }
     }
 
@@ -742,6 +769,7 @@ impl<'s, B: Body> Path<'s, B> {
                         )));
                     }
                 }
+                Err(Failure::Interrupted) => return Err(Error::Interrupted),
                 Err(Failure::Fatal { singular, why }) => {
                     let reason = if singular {
                         let named = self.singular_direction(target, &q, &lam);

@@ -24,7 +24,13 @@ class SceneError(FfrError):
 
 class SimulationError(FfrError):
     """A run or an analysis that failed (no convergence, divergence, a
-    singular matrix): why, and when."""
+    singular matrix, outputs that are not finite): why, and when."""
+
+    #: From ``Scene.run()``: the samples up to the failure (times, outputs
+    #: and statistics, as a run's result; all of them for a run refused for
+    #: an output that is not finite); None when the run failed before its
+    #: first sample and for the other calls.
+    run: Optional["RunResult"]
 
 class Scene:
     """A scene file's text with the values set so far, and the scene built
@@ -40,15 +46,19 @@ class Scene:
     ) -> "Scene":
         """A scene from its text; ``file`` names it in errors, ``base``
         (default: the current directory) resolves relative shape files."""
-    def set(self, key: str, value: SceneValue) -> None:
+    def set(self, key: str, value: Union[SceneValue, "np.generic", "npt.NDArray[np.generic]"]) -> None:
         """Set the value at a dotted key (``bodies.beam.params.e``,
         ``joints.0.drive.omega``, ``t_end``); the scene is resolved and
         built again, and a key or value it refuses raises SceneError (the
-        scene is left as it was)."""
+        scene is left as it was). A key set again replaces its earlier
+        value; at most 256 distinct keys (``MAX_OVERRIDES``). numpy scalars
+        and arrays are their ``tolist()`` values (a 0-d array a number)."""
     def update(self, values: Dict[str, SceneValue]) -> None:
         """Set several dotted keys at once, checked together."""
     def get(self, key: str) -> Optional[SceneValue]:
-        """The value at a dotted key, or None if the scene has none there."""
+        """The value at a dotted key, or None if the scene has none there:
+        a table as a dict, an array of tables (``joints``) as a list of
+        dicts."""
     @property
     def file(self) -> str:
         """The file's name as errors give it."""
@@ -57,13 +67,19 @@ class Scene:
         """The scene's text as it reads now (the file with the values set)."""
     @property
     def overrides(self) -> List[Tuple[str, SceneValue]]:
-        """The keys set so far and their values, in order."""
+        """The keys set so far and their values, in the order last set (a
+        key set again, also spelt ``joints.00`` for ``joints.0``, replaces
+        its earlier value; a value set as a whole drops the keys set
+        inside it)."""
     def run(
         self, vtk: Optional[Union[str, "os.PathLike[str]"]] = None, every: int = 1
     ) -> "RunResult":
         """Run the scene with the GIL released; raises SimulationError if
-        the run stops early. ``vtk=DIR`` also writes the ParaView time
-        series of ``ffr run --vtk DIR --every EVERY`` (docs/vtk.md)."""
+        the run stops early or an output is not finite (as ``ffr run``),
+        with the samples up to there as its ``run``. Ctrl-C stops it within
+        about 50 ms (KeyboardInterrupt; the scene is unchanged).
+        ``vtk=DIR`` also writes the ParaView time series of ``ffr run --vtk
+        DIR --every EVERY`` (docs/vtk.md)."""
     def static(self, steps: Optional[int] = None) -> "Static":
         """The static equilibrium under the scene's loads at t = 0 with the
         GIL released, as ``ffr static --json``: ``outputs`` (each output's
@@ -72,7 +88,8 @@ class Scene:
         RuntimeWarning), plus ``rotations`` (each flexible body's largest
         elastic rotation there). ``steps=K`` takes K equal load increments
         (default: automatic). Raises SimulationError if there is no
-        equilibrium (a mechanism, an unstable state, no convergence)."""
+        equilibrium (a mechanism, an unstable state, no convergence);
+        Ctrl-C stops it (KeyboardInterrupt)."""
 
 class RunResult:
     """A scene run: each output by name as a numpy array, the times ``t``,
@@ -194,7 +211,7 @@ def modes(
     formalism: Optional[Literal["consistent", "lumped"]] = None,
     *,
     count: Optional[int] = None,
-    boundary: Sequence[int] = (),
+    boundary: Optional[Union[Sequence[int], "npt.NDArray[np.integer]"]] = None,
     length: Optional[float] = None,
     rho: Optional[float] = None,
     area: Optional[float] = None,
@@ -217,10 +234,16 @@ def linearize(
 ) -> Linear:
     """A scene's linear model about its state at time ``at`` (default 0)
     or its static equilibrium, as ``ffr linearize --json`` (eigenvalues
-    complex)."""
+    complex). Ctrl-C stops the run to ``at`` or the static solver
+    (KeyboardInterrupt)."""
 
 def campbell(
-    scene: SceneLike, speeds: Sequence[float], joint: Optional[int] = None, count: int = 10
+    scene: SceneLike,
+    speeds: Union[Sequence[float], FloatArray],
+    joint: Optional[int] = None,
+    count: int = 10,
 ) -> Campbell:
     """A Campbell diagram, as ``ffr campbell --json`` (and the joint,
-    1-based)."""
+    1-based). ``speeds`` a sequence or a 1-d array (a 0-d array or a bare
+    number raises TypeError). Ctrl-C stops it between Newton iterations
+    (KeyboardInterrupt)."""

@@ -14,8 +14,9 @@ use ffr::codegen::modal::ModalBasis;
 use ffr::kernels::BeamSpec;
 use ffr::modal::{to_runtime, ReducibleBody};
 use ffr::runtime::nalgebra::DMatrix;
+use ffr::runtime::spec::text::{quoted, snippet};
 use ffr::runtime::spec::{Formalism, KernelOptions, Params, Reference};
-use ffr::runtime::Invariants;
+use ffr::runtime::{Interrupt, Invariants};
 use ffr::scene::linear::At;
 use ffr::scene::{SceneText, SceneValue};
 use numpy::{PyArray1, PyArray2, PyUntypedArrayMethods};
@@ -24,7 +25,8 @@ use pyo3::exceptions::{PyException, PyKeyError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
 create_exception!(
     ffr,
@@ -42,32 +44,138 @@ create_exception!(
     ffr,
     SimulationError,
     FfrError,
-    "A run or an analysis that failed (no convergence, divergence, a singular matrix): why, and when."
+    "A run or an analysis that failed (no convergence, divergence, a singular matrix, outputs that are not finite): why, and when. From Scene.run(), `run` is the RunResult of the samples up to the failure (None before the first sample and for the other calls)."
 );
+
+/// The longest message of an exception from the library, in characters
+/// (longer ones are cut with `…`).
+const MAX_MESSAGE_CHARS: usize = 2000;
+
+/// A message as an exception carries it: control, bidirectional and other
+/// invisible characters escaped (`\u{1b}`, `\n`), so that printing it
+/// cannot move a terminal's cursor or reorder its text, and cut to
+/// [`MAX_MESSAGE_CHARS`] ([`snippet`], the command line's rule).
+fn clean(m: &str) -> String {
+    snippet(m, MAX_MESSAGE_CHARS)
+}
 
 /// The library's error as the Python exception of its kind: a scene
 /// error as `SceneError`, a runtime failure as `SimulationError`,
 /// anything else as `FfrError` (`file` prefixed, as the command line
-/// prefixes it, when the error has no place of its own).
+/// prefixes it, when the error has no place of its own); an interrupted
+/// call as `KeyboardInterrupt` (its signal handler's own exception is
+/// raised instead where there is one: [`detach_interruptible`]).
 fn py_err(e: ffr::Error, file: Option<&str>) -> PyErr {
-    let prefixed = |m: String| match file {
-        Some(f) => format!("{f}: {m}"),
-        None => m,
+    let prefixed = |m: String| {
+        clean(&match file {
+            Some(f) => format!("{f}: {m}"),
+            None => m,
+        })
     };
     match e {
-        ffr::Error::Scene(s) => SceneError::new_err(s.to_string()),
+        ffr::Error::Runtime(ffr::runtime::Error::Interrupted) => {
+            pyo3::exceptions::PyKeyboardInterrupt::new_err(())
+        }
+        ffr::Error::Scene(s) => SceneError::new_err(clean(&s.to_string())),
         ffr::Error::Runtime(r) => SimulationError::new_err(prefixed(r.to_string())),
         other => FfrError::new_err(prefixed(other.to_string())),
     }
 }
 
 fn scene_err(e: impl std::fmt::Display) -> PyErr {
-    SceneError::new_err(e.to_string())
+    SceneError::new_err(clean(&e.to_string()))
+}
+
+/// How often a computation without the GIL takes it back to run Python's
+/// signal handlers (Ctrl-C).
+const SIGNAL_CHECK: Duration = Duration::from_millis(50);
+
+/// The signal check of a long call (an [`Interrupt`]): at most every
+/// [`SIGNAL_CHECK`], the GIL taken and Python's signal handlers run
+/// (`PyErr_CheckSignals`, which runs them only in the main thread); the
+/// exception a handler raised (`KeyboardInterrupt` for Ctrl-C) is kept
+/// and stops the call.
+struct Signals {
+    next: Mutex<Instant>,
+    raised: Mutex<Option<PyErr>>,
+}
+
+impl Signals {
+    fn check(&self) -> bool {
+        let now = Instant::now();
+        {
+            let mut next = self.next.lock().unwrap_or_else(|e| e.into_inner());
+            if now < *next {
+                return false;
+            }
+            *next = now + SIGNAL_CHECK;
+        }
+        match Python::attach(|py| py.check_signals()) {
+            Ok(()) => false,
+            Err(e) => {
+                *self.raised.lock().unwrap_or_else(|e| e.into_inner()) = Some(e);
+                true
+            }
+        }
+    }
+}
+
+/// Whether this is Python's main thread (the one that runs signal
+/// handlers).
+fn in_main_thread(py: Python<'_>) -> bool {
+    let threading = match py.import("threading") {
+        Ok(t) => t,
+        Err(_) => return true,
+    };
+    match (
+        threading.call_method0("current_thread"),
+        threading.call_method0("main_thread"),
+    ) {
+        (Ok(current), Ok(main)) => current.is(&main),
+        _ => true,
+    }
+}
+
+/// Run `f` without the GIL, handing it an [`Interrupt`] that runs
+/// Python's signal handlers every [`SIGNAL_CHECK`]: an exception one of
+/// them raised (Ctrl-C's `KeyboardInterrupt`) is raised as soon as the
+/// call stops, whatever it returned; a signal that came after its last
+/// check is handled before anything else (numpy is touched only after).
+/// Called from another thread than the main one, where Python runs no
+/// signal handlers, `f` gets [`Interrupt::NEVER`] (and never waits for
+/// the GIL).
+fn detach_interruptible<T: Send>(
+    py: Python<'_>,
+    f: impl for<'a> FnOnce(Interrupt<'a>) -> T + Send,
+) -> PyResult<T> {
+    let signals = Signals {
+        next: Mutex::new(Instant::now() + SIGNAL_CHECK),
+        raised: Mutex::new(None),
+    };
+    let check = || signals.check();
+    let main = in_main_thread(py);
+    let out = py.detach(|| {
+        f(if main {
+            Interrupt::new(&check)
+        } else {
+            Interrupt::NEVER
+        })
+    });
+    if let Some(e) = signals
+        .raised
+        .into_inner()
+        .unwrap_or_else(|e| e.into_inner())
+    {
+        return Err(e);
+    }
+    py.check_signals()?;
+    Ok(out)
 }
 
 /// A Python value as a scene value: bool, int, float, str, a list or tuple
-/// of them, a dict with str keys (an inline table); numpy scalars by their
-/// `__index__` / `__float__`.
+/// of them, a dict with str keys (an inline table); numpy scalars and
+/// arrays as the Python values of their `tolist()` (a 0-d array is its
+/// number); other numbers by their `__index__` / `__float__`.
 fn scene_value(v: &Bound<'_, PyAny>) -> PyResult<SceneValue> {
     scene_value_at(v, 0)
 }
@@ -88,7 +196,7 @@ fn scene_value_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<SceneValue> {
         return v.extract::<i64>().map(SceneValue::Int).map_err(|_| {
             PyValueError::new_err(format!(
                 "{}: an integer out of the range of a scene file's integers (64 bits)",
-                v.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+                repr(v)
             ))
         });
     }
@@ -104,7 +212,7 @@ fn scene_value_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<SceneValue> {
             let Ok(k) = k.cast::<PyString>() else {
                 return Err(PyTypeError::new_err(format!(
                     "a table's keys are strings, not {}",
-                    k.get_type().name()?
+                    type_name(&k)
                 )));
             };
             entries.push((k.to_cow()?.into_owned(), scene_value_at(&x, depth + 1)?));
@@ -118,18 +226,108 @@ fn scene_value_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<SceneValue> {
             .collect::<PyResult<_>>()?;
         return Ok(SceneValue::Array(items));
     }
-    if v.hasattr("__index__")? {
-        if let Ok(i) = v.call_method0("__index__")?.extract::<i64>() {
-            return Ok(SceneValue::Int(i));
+    if is_numpy(v) {
+        // An array or a numpy scalar: its Python value(s), which are
+        // then checked as above (a 0-d array and a scalar give a number).
+        let py_value = v.call_method0("tolist").map_err(|_| {
+            PyTypeError::new_err(format!(
+                "a numpy value that has no Python value (tolist() failed): {}",
+                repr(v)
+            ))
+        })?;
+        if !is_numpy(&py_value) {
+            return scene_value_at(&py_value, depth);
+        }
+    } else {
+        if v.hasattr("__index__").unwrap_or(false) {
+            if let Ok(i) = v.call_method0("__index__").and_then(|i| i.extract::<i64>()) {
+                return Ok(SceneValue::Int(i));
+            }
+        }
+        if v.hasattr("__float__").unwrap_or(false) {
+            if let Ok(x) = v.call_method0("__float__").and_then(|x| x.extract::<f64>()) {
+                return Ok(SceneValue::Float(x));
+            }
         }
     }
-    if v.hasattr("__float__")? {
-        return Ok(SceneValue::Float(v.call_method0("__float__")?.extract()?));
-    }
     Err(PyTypeError::new_err(format!(
-        "a scene value is a bool, int, float, str, list or dict, not {}",
-        v.get_type().name()?
+        "a scene value is a bool, int, float, str, list or dict, not {} ({})",
+        type_name(v),
+        repr(v)
     )))
+}
+
+/// Whether `v` is a numpy array or scalar (by its type's module, without
+/// importing numpy's Python side).
+fn is_numpy(v: &Bound<'_, PyAny>) -> bool {
+    v.get_type().module().is_ok_and(|m| {
+        m.to_cow()
+            .is_ok_and(|m| m == "numpy" || m.starts_with("numpy."))
+    })
+}
+
+/// A value's `repr()` for a message: escaped and cut ([`quoted`]).
+fn repr(v: &Bound<'_, PyAny>) -> String {
+    v.repr()
+        .ok()
+        .and_then(|r| r.to_cow().ok().map(|r| quoted(&r)))
+        .unwrap_or_else(|| "<a value without repr()>".into())
+}
+
+/// A value's type name for a message, escaped and cut.
+fn type_name(v: &Bound<'_, PyAny>) -> String {
+    v.get_type()
+        .name()
+        .ok()
+        .and_then(|n| n.to_cow().ok().map(|n| quoted(&n)))
+        .unwrap_or_else(|| "?".into())
+}
+
+/// A sequence argument (`speeds`, `boundary`, `inputs`, `outputs`): a list,
+/// a tuple, a 1-d numpy array or another sequence of `T`; a 0-d numpy
+/// array, a str or a bare number is refused with a message naming the
+/// argument.
+fn sequence<T>(v: &Bound<'_, PyAny>, name: &str, of: &str) -> PyResult<Vec<T>>
+where
+    T: for<'a, 'py> FromPyObject<'a, 'py>,
+{
+    let refuse = |why: String| {
+        PyTypeError::new_err(format!(
+            "{name} = {}: expected a sequence of {of}{why}",
+            repr(v)
+        ))
+    };
+    if is_numpy(v) {
+        let ndim: usize = v.getattr("ndim").and_then(|n| n.extract()).unwrap_or(0);
+        if ndim != 1 {
+            return Err(refuse(format!(
+                ", not a {ndim}-d numpy {}",
+                if ndim == 0 {
+                    "array or scalar (wrap one value in a list: [x])"
+                } else {
+                    "array"
+                }
+            )));
+        }
+        return sequence(&v.call_method0("tolist")?, name, of);
+    }
+    if v.is_instance_of::<PyString>() || !v.hasattr("__len__").unwrap_or(false) {
+        return Err(refuse(format!(", not {}", type_name(v))));
+    }
+    let mut out = Vec::new();
+    for (i, x) in v.try_iter().map_err(|_| refuse(String::new()))?.enumerate() {
+        let x = x?;
+        let x = if is_numpy(&x) {
+            x.call_method0("tolist")?
+        } else {
+            x
+        };
+        out.push(
+            x.extract::<T>()
+                .map_err(|_| refuse(format!(": item {i} is {} ({})", type_name(&x), repr(&x))))?,
+        );
+    }
+    Ok(out)
 }
 
 /// A scene value as Python's.
@@ -232,7 +430,9 @@ impl Scene {
         self.set_all(items)
     }
 
-    /// The value at a dotted key, or `None` if the scene has none there.
+    /// The value at a dotted key, or `None` if the scene has none there: a
+    /// table as a dict, an array of tables (`[[joints]]`) as a list of
+    /// dicts.
     fn get(&self, py: Python<'_>, key: &str) -> PyResult<Option<Py<PyAny>>> {
         self.snapshot()
             .text
@@ -253,7 +453,8 @@ impl Scene {
         self.snapshot().text.text()
     }
 
-    /// The keys set so far and their values, in order.
+    /// The keys set so far and their values, in the order they were last
+    /// set (a key set again replaces its earlier value).
     #[getter]
     fn overrides(&self, py: Python<'_>) -> PyResult<Vec<(String, Py<PyAny>)>> {
         self.snapshot()
@@ -272,6 +473,8 @@ impl Scene {
     /// before the run.
     #[pyo3(signature = (vtk = None, every = 1))]
     fn run(&self, py: Python<'_>, vtk: Option<PathBuf>, every: usize) -> PyResult<RunResult> {
+        // The samples of a run that stopped early or is not valid go with
+        // its `SimulationError` as `.run` (none before the first sample).
         if every == 0 {
             return Err(PyValueError::new_err(
                 "every = 0: the VTK series writes every K-th step, K ≥ 1",
@@ -283,35 +486,27 @@ impl Scene {
         let scene = self.snapshot().built;
         let mut options = ffr::scene::RunOptions::default();
         options.vtk = vtk.map(|dir| ffr::scene::vtk::VtkOptions { dir, every });
-        let r = py
-            .detach(move || ffr::scene::run_with(&scene, &options))
-            .map_err(|e| py_err(e, None))?;
-        if let Some(f) = &r.failed {
-            return Err(SimulationError::new_err(format!(
+        let r = detach_interruptible(py, move |stop| {
+            ffr::scene::run_interruptible(&scene, &options, stop)
+        })?
+        .map_err(|e| py_err(e, None))?;
+        let failed = match &r.failed {
+            Some(f) => Some(format!(
                 "the run stopped at t = {:.6} s: {f}",
                 r.t.last().copied().unwrap_or(0.0)
-            )));
+            )),
+            None => non_finite(&r),
+        };
+        if let Some(message) = failed {
+            let e = SimulationError::new_err(clean(&message));
+            if !r.t.is_empty() {
+                let run = Py::new(py, RunResult::new(py, r)?)?;
+                e.value(py).setattr("run", run)?;
+            }
+            return Err(e);
         }
         warn_all(py, &r.warnings)?;
-        let rotations = rotations_list(py, &r.rotations)?.unbind();
-        let columns = r
-            .columns
-            .into_iter()
-            .map(|c| PyArray1::from_vec(py, c).unbind())
-            .collect();
-        Ok(RunResult {
-            warnings: r.warnings,
-            rotations,
-            t: PyArray1::from_vec(py, r.t).unbind(),
-            names: r.names,
-            columns,
-            steps: r.steps,
-            newton_iterations: r.newton_iterations,
-            jacobians: r.jacobians,
-            restarts: r.restarts,
-            splits: r.splits,
-            wall: r.wall,
-        })
+        RunResult::new(py, r)
     }
 
     /// The static equilibrium under the scene's loads at t = 0 (the GIL
@@ -337,9 +532,10 @@ impl Scene {
         let scene = loaded.built;
         let file = loaded.text.file().to_string();
         let options = ffr::scene::statics::StaticOptions { steps };
-        let s = py
-            .detach(move || ffr::scene::statics::solve(&scene, &options))
-            .map_err(|e| py_err(e, Some(&file)))?;
+        let s = detach_interruptible(py, move |stop| {
+            ffr::scene::statics::solve_interruptible(&scene, &options, stop)
+        })?
+        .map_err(|e| py_err(e, Some(&file)))?;
         let outputs = PyDict::new(py);
         for (n, v) in s.names.iter().zip(&s.values) {
             outputs.set_item(n, v)?;
@@ -355,18 +551,47 @@ impl Scene {
     }
 
     fn __repr__(&self) -> String {
+        const LISTED: usize = 8;
         let t = self.snapshot().text;
+        let file = snippet(t.file(), 200);
         if t.overrides().is_empty() {
-            format!("ffr.Scene({:?})", t.file())
+            format!("ffr.Scene({file:?})")
         } else {
-            let set: Vec<String> = t
+            let mut set: Vec<String> = t
                 .overrides()
                 .iter()
-                .map(|(k, v)| format!("{k} = {v}"))
+                .take(LISTED)
+                .map(|(k, v)| format!("{} = {}", quoted(k), quoted(&v.to_string())))
                 .collect();
-            format!("ffr.Scene({:?}, with {})", t.file(), set.join(", "))
+            if t.overrides().len() > LISTED {
+                set.push(format!("and {} more", t.overrides().len() - LISTED));
+            }
+            format!("ffr.Scene({file:?}, with {})", set.join(", "))
         }
     }
+}
+
+/// Why a run that reached its end is not valid, as `ffr run` refuses it: a
+/// time or an output value that is not finite (the first, named, with its
+/// time).
+fn non_finite(r: &ffr::scene::SceneRun) -> Option<String> {
+    if let Some((i, v)) = r.t.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Some(format!(
+            "the time of sample {i} is {v}, not a finite number: the run is not valid"
+        ));
+    }
+    for (n, c) in r.names.iter().zip(&r.columns) {
+        if let Some((i, v)) = c.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            let at =
+                r.t.get(i)
+                    .map_or(String::new(), |t| format!(" at t = {t:?} s"));
+            return Some(format!(
+                "output `{}` is {v}{at}, not a finite number: the run is not valid",
+                quoted(n)
+            ));
+        }
+    }
+    None
 }
 
 /// A scene run: each output by name as a numpy array (`result["tip_x"]`),
@@ -406,6 +631,31 @@ struct RunResult {
     rotations: Py<PyList>,
 }
 
+impl RunResult {
+    /// The run's vectors handed to numpy (no copy).
+    fn new(py: Python<'_>, r: ffr::scene::SceneRun) -> PyResult<Self> {
+        let rotations = rotations_list(py, &r.rotations)?.unbind();
+        let columns = r
+            .columns
+            .into_iter()
+            .map(|c| PyArray1::from_vec(py, c).unbind())
+            .collect();
+        Ok(RunResult {
+            warnings: r.warnings,
+            rotations,
+            t: PyArray1::from_vec(py, r.t).unbind(),
+            names: r.names,
+            columns,
+            steps: r.steps,
+            newton_iterations: r.newton_iterations,
+            jacobians: r.jacobians,
+            restarts: r.restarts,
+            splits: r.splits,
+            wall: r.wall,
+        })
+    }
+}
+
 #[pymethods]
 impl RunResult {
     /// The times (s).
@@ -429,8 +679,9 @@ impl RunResult {
         match self.names.iter().position(|n| n == name) {
             Some(i) => Ok(self.columns[i].clone_ref(py)),
             None => Err(PyKeyError::new_err(format!(
-                "no output `{name}`; the outputs are {}",
-                self.names.join(", ")
+                "no output `{}`; the outputs are {}",
+                quoted(name),
+                names_list(&self.names)
             ))),
         }
     }
@@ -454,11 +705,21 @@ impl RunResult {
         format!(
             "ffr.RunResult({} samples, outputs {}, {} steps, wall {:.3} s)",
             PyUntypedArrayMethods::len(self.t.bind(py)),
-            self.names.join(", "),
+            names_list(&self.names),
             self.steps,
             self.wall
         )
     }
+}
+
+/// Names for a message: each quoted ([`quoted`]), at most 16 (then `…`).
+fn names_list(names: &[String]) -> String {
+    const LISTED: usize = 16;
+    let mut out: Vec<String> = names.iter().take(LISTED).map(|n| quoted(n)).collect();
+    if names.len() > LISTED {
+        out.push(format!("… ({} in all)", names.len()));
+    }
+    out.join(", ")
 }
 
 /// Issue each warning once as a Python `RuntimeWarning` (pointing at the
@@ -466,7 +727,7 @@ impl RunResult {
 fn warn_all(py: Python<'_>, warnings: &[String]) -> PyResult<()> {
     let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
     for w in warnings {
-        let text = std::ffi::CString::new(w.replace('\0', " ")).expect("no NUL left");
+        let text = std::ffi::CString::new(clean(w)).expect("snippet escapes NUL");
         PyErr::warn(py, category.as_any(), &text, 1)?;
     }
     Ok(())
@@ -541,7 +802,8 @@ fn scene_text(scene: &Bound<'_, PyAny>) -> PyResult<SceneText> {
 }
 
 fn parse<T: std::str::FromStr<Err = String>>(s: &str) -> PyResult<T> {
-    s.parse().map_err(PyValueError::new_err)
+    s.parse()
+        .map_err(|e: String| PyValueError::new_err(clean(&e)))
 }
 
 /// The body the keyword arguments describe: a scene's flexible body
@@ -722,7 +984,7 @@ fn modes_dict<'py>(
 /// elastic mode) or, with `boundary` nodes, Craig–Bampton; keyed like
 /// `ffr modes --json`.
 #[pyfunction]
-#[pyo3(signature = (shape = None, elements = None, reference = None, formalism = None, *, count = None, boundary = Vec::new(), length = None, rho = None, area = None, iy = None, iz = None, e = None, g = None, j = None, scene = None, body = None))]
+#[pyo3(signature = (shape = None, elements = None, reference = None, formalism = None, *, count = None, boundary = None, length = None, rho = None, area = None, iy = None, iz = None, e = None, g = None, j = None, scene = None, body = None))]
 #[allow(clippy::too_many_arguments)]
 fn modes<'py>(
     py: Python<'py>,
@@ -731,7 +993,7 @@ fn modes<'py>(
     reference: Option<String>,
     formalism: Option<String>,
     count: Option<usize>,
-    boundary: Vec<usize>,
+    boundary: Option<&Bound<'py, PyAny>>,
     length: Option<f64>,
     rho: Option<f64>,
     area: Option<f64>,
@@ -743,6 +1005,10 @@ fn modes<'py>(
     scene: Option<&Bound<'py, PyAny>>,
     body: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let boundary: Vec<usize> = match boundary {
+        Some(b) if !b.is_none() => sequence(b, "boundary", "node numbers")?,
+        _ => Vec::new(),
+    };
     let args = BodyArgs {
         shape,
         elements,
@@ -754,7 +1020,7 @@ fn modes<'py>(
         Some((s, file)) => {
             let (whole, f) = s
                 .whole_body(body.unwrap_or_default())
-                .map_err(FfrError::new_err)?;
+                .map_err(|e| FfrError::new_err(clean(&e.to_string())))?;
             (
                 ReducibleBody::of_scene_body(f, whole).map_err(|e| py_err(e, Some(&file)))?,
                 Some(file),
@@ -786,18 +1052,22 @@ fn modes<'py>(
 /// refused, not rounded.
 fn load_steps(v: &Bound<'_, PyAny>) -> PyResult<usize> {
     let max = ffr::scene::statics::MAX_STEPS;
-    if v.is_instance_of::<PyBool>() || v.is_instance_of::<PyFloat>() || !v.hasattr("__index__")? {
-        return Err(PyTypeError::new_err(format!(
+    let message = || {
+        format!(
             "steps = {}: expected a whole number of load increments from 1 to {max}",
-            v.repr()?
-        )));
+            repr(v)
+        )
+    };
+    if v.is_instance_of::<PyBool>()
+        || v.is_instance_of::<PyFloat>()
+        || !v.hasattr("__index__").unwrap_or(false)
+    {
+        return Err(PyTypeError::new_err(message()));
     }
-    match v.call_method0("__index__")?.extract::<i64>() {
+    match v.call_method0("__index__").and_then(|k| k.extract::<i64>()) {
         Ok(k) if k >= 1 && k as u64 <= max as u64 => Ok(k as usize),
-        _ => Err(PyValueError::new_err(format!(
-            "steps = {}: expected a whole number of load increments from 1 to {max}",
-            v.repr()?
-        ))),
+        Ok(_) => Err(PyValueError::new_err(message())),
+        Err(_) => Err(PyTypeError::new_err(message())),
     }
 }
 
@@ -814,7 +1084,7 @@ fn at(v: &Bound<'_, PyAny>) -> PyResult<At> {
     }
     Err(PyValueError::new_err(format!(
         "at = {}: expected a time in seconds (finite, ≥ 0) or \"static\"",
-        v.repr()?
+        repr(v)
     )))
 }
 
@@ -828,24 +1098,31 @@ fn linearize<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyAny>,
     at: Option<&Bound<'py, PyAny>>,
-    inputs: Option<Vec<String>>,
-    outputs: Option<Vec<String>>,
+    inputs: Option<&Bound<'py, PyAny>>,
+    outputs: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let at = at.map_or(Ok(At::Time(0.0)), self::at)?;
+    let names = |v: Option<&Bound<'py, PyAny>>, name| {
+        v.filter(|v| !v.is_none())
+            .map(|v| sequence::<String>(v, name, "names (str)"))
+            .transpose()
+    };
+    let inputs = names(inputs, "inputs")?;
+    let outputs = names(outputs, "outputs")?;
     let text = scene_text(scene)?;
     let file = text.file().to_string();
     let spec = text.spec().map_err(scene_err)?;
-    let m = py
-        .detach(|| {
-            ffr::scene::linear::linearize_scene(
-                &spec,
-                &ffr::scene::DefaultKernels,
-                at,
-                inputs.as_deref(),
-                outputs.as_deref(),
-            )
-        })
-        .map_err(|e| py_err(e, Some(&file)))?;
+    let m = detach_interruptible(py, |stop| {
+        ffr::scene::linear::linearize_scene_interruptible(
+            &spec,
+            &ffr::scene::DefaultKernels,
+            at,
+            inputs.as_deref(),
+            outputs.as_deref(),
+            stop,
+        )
+    })?
+    .map_err(|e| py_err(e, Some(&file)))?;
     let ev = ffr::runtime::linear::eigenvalues(&m.a).map_err(|e| py_err(e.into(), Some(&file)))?;
     let ev: Vec<numpy::Complex64> = ev
         .iter()
@@ -873,10 +1150,11 @@ fn linearize<'py>(
 fn campbell<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyAny>,
-    speeds: Vec<f64>,
+    speeds: &Bound<'py, PyAny>,
     joint: Option<usize>,
     count: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let speeds = sequence::<f64>(speeds, "speeds", "rates (rad/s)")?;
     if count == 0 {
         return Err(PyValueError::new_err(
             "count = 0: ask for at least one mode",
@@ -890,17 +1168,18 @@ fn campbell<'py>(
     let text = scene_text(scene)?;
     let file = text.file().to_string();
     let spec = text.spec().map_err(scene_err)?;
-    let c = py
-        .detach(|| {
-            ffr::scene::linear::campbell(
-                &spec,
-                &ffr::scene::DefaultKernels,
-                &speeds,
-                joint.map(|j| j - 1),
-                count,
-            )
-        })
-        .map_err(|e| py_err(e, Some(&file)))?;
+    let c = detach_interruptible(py, |stop| {
+        ffr::scene::linear::campbell_interruptible(
+            &spec,
+            &ffr::scene::DefaultKernels,
+            &speeds,
+            joint.map(|j| j - 1),
+            count,
+            &mut |_, _, _, _| Ok(()),
+            stop,
+        )
+    })?
+    .map_err(|e| py_err(e, Some(&file)))?;
     let out = PyDict::new(py);
     out.set_item("speeds", PyArray1::from_slice(py, &c.speeds))?;
     out.set_item("joint", c.joint + 1)?;
@@ -926,8 +1205,15 @@ fn campbell<'py>(
 #[pymodule]
 fn _ffr(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    // numpy's C API now, while importing: loaded lazily by the first call
+    // that makes an array, its import would run with a Ctrl-C of that
+    // call pending, fail, and the numpy crate would panic.
+    py.import("numpy")?;
+    drop(PyArray1::<f64>::zeros(py, 0, false));
     m.add("FfrError", py.get_type::<FfrError>())?;
     m.add("SceneError", py.get_type::<SceneError>())?;
+    // The run up to the failure, set on the instances a run raises.
+    py.get_type::<SimulationError>().setattr("run", py.None())?;
     m.add("SimulationError", py.get_type::<SimulationError>())?;
     m.add_class::<Scene>()?;
     m.add_class::<RunResult>()?;

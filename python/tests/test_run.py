@@ -1,6 +1,7 @@
 """Scenes run from Python: the same numbers as `ffr run`, bit for bit."""
 
 import csv
+import subprocess
 import re
 
 import numpy as np
@@ -73,3 +74,44 @@ def test_a_run_that_fails_raises_simulation_error():
         s.run()
     assert issubclass(ffr.SimulationError, ffr.FfrError)
     assert issubclass(ffr.SceneError, ffr.FfrError)
+
+
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")  # the cut run's elastic rotation
+def test_simulation_error_carries_the_run_up_to_the_failure():
+    s = ffr.Scene.load(SCENES / "spin_up.toml")
+    s.set("bodies.beam.stiffening", False)
+    with pytest.raises(ffr.SimulationError) as e:
+        s.run()
+    run = e.value.run
+    assert isinstance(run, ffr.RunResult)
+    # The samples up to the stop, whose time the message gives.
+    stopped = float(str(e.value).split("t = ")[1].split(" s")[0])
+    assert run.t[-1] == pytest.approx(stopped, abs=5e-7) and run.t[-1] < 20.0
+    assert 0 < run.steps == len(run.t) - 1
+    # The same samples as the run of the scene cut there (the same steps;
+    # its last one may differ in the last bits, its step being t_end − t
+    # rounded).
+    s.set("t_end", float(run.t[-2]))
+    cut = s.run()
+    assert len(cut.t) == len(run.t) - 1
+    for name in run:
+        assert np.isfinite(run[name]).all()
+        assert np.array_equal(run[name][:-2], cut[name][:-1]), name
+        np.testing.assert_allclose(cut[name][-1], run[name][-2], rtol=1e-9, atol=1e-15)
+    # Other failures carry none.
+    assert ffr.SimulationError("x").run is None
+
+
+def test_a_run_with_outputs_that_are_not_finite_is_refused_as_on_the_command_line(ffr_bin, tmp_path):
+    # A bar thrown at 1e155 m/s: every coordinate finite, its kinetic
+    # energy ½ m v² beyond the range of f64.
+    text = (SCENES / "free_floating.toml").read_text()
+    text = text.replace("velocity = [0.5, -1.0]", "velocity = [1e155, 0.0]").replace("t_end = 2.0", "t_end = 0.003")
+    path = tmp_path / "thrown.toml"
+    path.write_text(text)
+    r = subprocess.run([str(ffr_bin), "run", str(path), "--csv", str(tmp_path / "x.csv")], capture_output=True, text=True)
+    assert r.returncode == 1 and "output `energy` is inf at t = 0 s, not a finite number: the run is not valid" in r.stderr, r.stderr
+    with pytest.raises(ffr.SimulationError, match=r"^output `energy` is inf at t = 0\.0 s, not a finite number: the run is not valid$") as e:
+        ffr.Scene.load(path).run()
+    run = e.value.run
+    assert run.steps == 3 and np.isinf(run["energy"]).all() and np.isfinite(run["mid_x"]).all()

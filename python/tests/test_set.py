@@ -226,3 +226,136 @@ def test_a_marker_is_set_as_a_string_or_a_table():
     s.set("joints.1.a.axes.angle", 1.5707963267948966)
     with pytest.raises(ffr.SceneError, match="`axis` does not apply to a marker's `axes` in a planar scene"):
         s.set("joints.1.a.axes.axis", [0.0, 0.0, 1.0])
+
+
+def test_a_key_set_again_replaces_its_value():
+    # Sets of one key used to keep every one: each later set slower (20 000
+    # sets took 24 s) and all of them in each error message. Now one, and a
+    # set costs the same (1.5 ms, the scene's build, in each of 4 blocks of
+    # 1000 sets measured).
+    s = ffr.Scene.load(SPIN_UP)
+    for i in range(3000):
+        s.set("t_end", 1.0 + i % 7)
+    assert s.overrides == [("t_end", 4.0)]
+    s.set("joints.0.drive.omega", 2.0)
+    s.set("joints.00.drive.omega", 3.0)  # the same entry, spelt otherwise
+    assert [k for k, _ in s.overrides] == ["t_end", "joints.00.drive.omega"]
+    with pytest.raises(ffr.SceneError) as e:
+        s.set("dt", 0.0)
+    assert str(e.value).endswith("(with t_end = 4.0, joints.00.drive.omega = 3.0, dt = 0.0)"), str(e.value)
+
+
+def test_distinct_keys_are_bounded_with_the_bound_named():
+    # A profile table of 300 rows: 300 distinct keys that all load.
+    s = ffr.Scene.load(L_FRAME)
+    s.set("forces.0.profile.table", [[float(i), 0.0] for i in range(300)])
+    s.update({f"forces.0.profile.table.{i}.1": 1.0 for i in range(255)})
+    assert len(s.overrides) == 256
+    with pytest.raises(ffr.SceneError, match=r"more than 256 distinct keys .*MAX_OVERRIDES"):
+        s.set("forces.0.profile.table.299.1", 1.0)
+    assert len(s.overrides) == 256
+    # Keys already set are replaced, and the table as a whole replaces them all.
+    s.set("forces.0.profile.table.3.1", 0.5)
+    s.set("forces.0.profile.table", [[0.0, 0.0], [1.0, 1.0]])
+    assert s.overrides == [("forces.0.profile.table", [[0.0, 0.0], [1.0, 1.0]])]
+
+
+def test_get_gives_tables_and_arrays_of_tables():
+    # Compared with Python's own TOML reader of the file.
+    tomllib = pytest.importorskip("tomllib")
+    for path in (SPIN_UP, L_FRAME, SCENES / "two_link_arm.toml"):
+        data = tomllib.loads(path.read_text())
+        s = ffr.Scene.load(path)
+        for key, value in data.items():
+            assert s.get(key) == value, (path, key)
+        assert s.get("joints") == data["joints"] and isinstance(s.get("joints.0"), dict)
+        name = next(iter(data["bodies"]))
+        assert s.get(f"bodies.{name}") == data["bodies"][name]
+        assert s.get("no_such_key") is None
+
+
+def no_hidden_characters(text):
+    import unicodedata
+
+    return not any(unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp") for c in text)
+
+
+@pytest.mark.parametrize(
+    "key",
+    [
+        "bodies.\x1b]0;owned\x07\x1b[2J.e",
+        "bodies.beam.position.\u202e1",
+        "joints.0.drive.omega.x\ny",
+        "bodies.beam.\u2066x",
+    ],
+)
+def test_user_text_in_exception_messages_is_escaped(key):
+    s = ffr.Scene.load(SPIN_UP)
+    with pytest.raises(ffr.SceneError) as e:
+        s.set(key, 1.0)
+    m = str(e.value)
+    assert no_hidden_characters(m) and ("\\u{" in m or "\\n" in m), m
+    # A key the loader refuses (the edit takes it): its message too.
+    with pytest.raises(ffr.SceneError) as e:
+        s.set("bodies.beam.x\x1b[2J\u202e", 1.0)
+    assert no_hidden_characters(str(e.value)), str(e.value)
+    # Names and values of other calls.
+    evil = type("\x1b[31mEvil\u202e", (), {"__repr__": lambda self: "\x1b[2J\n" * 100})()
+    for call in (
+        lambda: s.set("t_end", evil),
+        lambda: s.set("t_end", {evil: 1}),
+        lambda: s.static(steps=evil),
+        lambda: ffr.linearize(s, at=evil),
+        lambda: ffr.campbell(s, evil),
+        lambda: ffr.modes(reference="\x1b[2Jx"),
+    ):
+        with pytest.raises((TypeError, ValueError, ffr.FfrError)) as e:
+            call()
+        assert no_hidden_characters(str(e.value)) and len(str(e.value)) < 400, str(e.value)
+
+
+def test_an_output_name_in_a_key_error_is_escaped():
+    s = ffr.Scene.load(SPIN_UP)
+    s.set("t_end", 0.05)
+    r = s.run()
+    with pytest.raises(KeyError) as e:
+        r["tip\x1b[2J\u202e"]
+    assert no_hidden_characters(e.value.args[0]) and "tip_axial" in e.value.args[0]
+
+
+def test_numpy_arrays_are_values_and_0d_arrays_numbers():
+    # numpy's internal "only integer scalar arrays can be converted to a
+    # scalar index" / "iteration over a 0-d array" used to reach the user.
+    s = ffr.Scene.load(SPIN_UP)
+    s.set("t_end", np.array(2.0))
+    s.set("bodies.beam.elements", np.array(4))
+    s.update({"bodies.beam.position": np.array([0.0, 1.0]), "joints.0.a": "ground@[0.0, 1.0]"})
+    assert s.get("t_end") == 2.0 and s.get("bodies.beam.elements") == 4
+    assert s.get("bodies.beam.position") == [0.0, 1.0]
+    with pytest.raises(TypeError, match=r"^a scene value is a bool, int, float, str, list or dict, not complex"):
+        s.set("t_end", np.array(1j))
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda s: ffr.campbell(s, np.array(1.0)), r"^speeds = array\(1\.\): expected a sequence of rates \(rad/s\), not a 0-d numpy array"),
+        (lambda s: ffr.campbell(s, 1.0), r"^speeds = 1\.0: expected a sequence of rates \(rad/s\), not float"),
+        (lambda s: ffr.campbell(s, ["fast"]), r"^speeds = \['fast'\]: expected a sequence of rates \(rad/s\): item 0 is str"),
+        (lambda s: ffr.linearize(s, inputs=np.array("joint1")), r"^inputs = .*not a 0-d numpy array"),
+        (lambda s: ffr.linearize(s, outputs="tip_axial"), r"^outputs = 'tip_axial': expected a sequence of names \(str\), not str"),
+        (lambda s: ffr.modes(boundary=np.array(1)), r"^boundary = array\(1\): expected a sequence of node numbers, not a 0-d numpy array"),
+    ],
+)
+def test_sequence_arguments_refuse_0d_arrays_clearly(call, message):
+    s = ffr.Scene.load(SPIN_UP)
+    with pytest.raises(TypeError, match=message):
+        call(s)
+
+
+def test_sequence_arguments_take_1d_arrays():
+    s = ffr.Scene.load(SPIN_UP)
+    s.set("bodies.beam.elements", 2)
+    a = ffr.campbell(s, np.array([0.0, 1.0]), count=2)
+    b = ffr.campbell(s, [0.0, 1.0], count=2)
+    assert a["modes"] == b["modes"]

@@ -29,6 +29,16 @@ pub const MAX_KEY_LEN: usize = 512;
 /// takes (a scene's values nest two or three deep).
 pub const MAX_VALUE_DEPTH: usize = 32;
 
+/// The most distinct keys set on one [`SceneText`] (a key set again
+/// replaces its earlier value; a study's axes are at most 32).
+pub const MAX_OVERRIDES: usize = 256;
+
+/// The most keys set that an error message lists (then `and N more`).
+const MAX_LISTED: usize = 8;
+
+/// The most names of a table's or array's entries an error message lists.
+const MAX_NAMES: usize = 16;
+
 /// A value to set at a dotted key.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SceneValue {
@@ -145,6 +155,9 @@ pub struct SceneText {
     file: String,
     base: PathBuf,
     set: Vec<(String, SceneValue)>,
+    /// The place each key of `set` names: its segments, an index as its
+    /// number (`joints.00` and `joints.0` are one place).
+    places: Vec<String>,
 }
 
 impl SceneText {
@@ -172,6 +185,7 @@ impl SceneText {
             file: file.to_string(),
             base: base.to_path_buf(),
             set: Vec::new(),
+            places: Vec::new(),
         })
     }
 
@@ -180,7 +194,11 @@ impl SceneText {
         &self.file
     }
 
-    /// The keys set so far and their values, in order.
+    /// The keys set so far and their values, in the order they were last
+    /// set: a key set again (also spelt differently, `joints.00` for
+    /// `joints.0`) replaces its earlier value, and a key whose value is
+    /// replaced as a whole (`joints.0.drive` after `joints.0.drive.omega`)
+    /// drops the keys inside it.
     pub fn overrides(&self) -> &[(String, SceneValue)] {
         &self.set
     }
@@ -190,15 +208,18 @@ impl SceneText {
         self.doc.to_string()
     }
 
-    /// The value at a dotted key, if the scene has one there.
+    /// The value at a dotted key, if the scene has one there: a table
+    /// (also a `[table]` of the file) as [`SceneValue::Table`], an array of
+    /// tables (`[[joints]]`) as an array of them.
     pub fn get(&self, key: &str) -> Option<SceneValue> {
         let mut node = Node::Item(self.doc.as_item());
         for s in key.split('.') {
             node = node.child(s)?;
         }
         match node {
-            Node::Item(Item::Value(v)) | Node::Value(v) => SceneValue::from_toml(v),
-            _ => None,
+            Node::Item(item) => item_value(item),
+            Node::Table(t) => table_value(t),
+            Node::Value(v) => SceneValue::from_toml(v),
         }
     }
 
@@ -211,6 +232,7 @@ impl SceneText {
             location: None,
             message: format!("{file}: key `{}`: {message}", shorten(key)),
         };
+        let q = crate::runtime::spec::text::quoted;
         if key.len() > MAX_KEY_LEN {
             return Err(error(format!("longer than {MAX_KEY_LEN} bytes")));
         }
@@ -224,40 +246,63 @@ impl SceneText {
         let (last, path) = segments
             .split_last()
             .expect("split gives one segment at least");
+        // The place the key names (indices as numbers).
+        let mut place: Vec<String> = Vec::with_capacity(segments.len());
         let mut node = NodeMut::Item(self.doc.as_item_mut());
         for (i, s) in path.iter().enumerate() {
             let here = segments[..i].join(".");
             let at = if here.is_empty() {
                 "the scene".to_string()
             } else {
-                format!("`{here}`")
+                format!("`{}`", q(&here))
             };
             let what = node.describe();
             let names = node.names();
+            place.push(match (node.indexed(), index(s, usize::MAX)) {
+                (true, Some(k)) => k.to_string(),
+                _ => s.to_string(),
+            });
             node = match node.child(s) {
                 Some(c) => c,
                 None => {
+                    let s = q(s);
                     return Err(error(match names {
                         Some(n) if n.is_empty() => format!("{at} has no `{s}` (it is empty)"),
-                        Some(n) => format!("{at} has no `{s}` ({what} of: {})", n.join(", ")),
+                        Some(n) => format!("{at} has no `{s}` ({what} of: {})", name_list(&n)),
                         None => format!("{at} is {what}, not a table or an array"),
                     }));
                 }
             };
         }
-        let here = path.join(".");
+        let here = q(&path.join("."));
         let at = if here.is_empty() {
             "the scene".to_string()
         } else {
             format!("`{here}`")
         };
         let what = node.describe();
+        place.push(match (node.indexed(), index(last, usize::MAX)) {
+            (true, Some(k)) => k.to_string(),
+            _ => last.to_string(),
+        });
+        let place = place.join(".");
+        // Keys this one replaces: the same place, or a place inside it.
+        let replaced = |p: &String| {
+            p == &place || (p.starts_with(&place) && p.as_bytes().get(place.len()) == Some(&b'.'))
+        };
+        let kept = self.places.iter().filter(|p| !replaced(p)).count();
+        if kept >= MAX_OVERRIDES {
+            return Err(error(format!(
+                "more than {MAX_OVERRIDES} distinct keys set on one scene (the bound MAX_OVERRIDES; a key set again replaces its value)"
+            )));
+        }
+        let last_q = q(last);
         let table = |t: &mut toml_edit::Table| -> Result<(), SceneError> {
             match t.get_mut(last) {
                 Some(Item::Value(old)) => replace(old, new.clone()),
                 Some(other) => {
                     return Err(error(format!(
-                        "`{last}` in {at} is {}; set the values inside it",
+                        "`{last_q}` in {at} is {}; set the values inside it",
                         describe_item(other)
                     )))
                 }
@@ -282,7 +327,7 @@ impl SceneText {
                     Some(i) => replace(a.get_mut(i).expect("index checked"), new),
                     None => {
                         return Err(error(format!(
-                            "{at} is an array of {len}; `{last}` is not an index in it"
+                            "{at} is an array of {len}; `{last_q}` is not an index in it"
                         )))
                     }
                 }
@@ -294,7 +339,17 @@ impl SceneText {
             }
             _ => return Err(error(format!("{at} is {what}, not a table or an array"))),
         }
+        let mut i = 0;
+        while i < self.places.len() {
+            if replaced(&self.places[i]) {
+                self.places.remove(i);
+                self.set.remove(i);
+            } else {
+                i += 1;
+            }
+        }
         self.set.push((key.to_string(), value));
+        self.places.push(place);
         Ok(())
     }
 
@@ -320,28 +375,60 @@ impl SceneText {
 
     fn with_overrides(&self, mut e: SceneError) -> SceneError {
         if !self.set.is_empty() {
-            let list: Vec<String> = self
+            let mut list: Vec<String> = self
                 .set
                 .iter()
+                .take(MAX_LISTED)
                 .map(|(k, v)| format!("{} = {}", shorten(k), shorten(&v.to_string())))
                 .collect();
+            if self.set.len() > MAX_LISTED {
+                list.push(format!("and {} more", self.set.len() - MAX_LISTED));
+            }
             e.message = format!("{} (with {})", e.message, list.join(", "));
         }
         e
     }
 }
 
-/// A user string cut to a length an error message can carry.
+/// A user string as an error message carries it: escaped and cut
+/// ([`crate::runtime::spec::text::snippet`]).
 fn shorten(s: &str) -> String {
-    const MAX: usize = 80;
-    if s.len() <= MAX {
-        return s.to_string();
+    crate::runtime::spec::text::snippet(s, 80)
+}
+
+/// Entry names as an error message lists them: quoted, at most
+/// [`MAX_NAMES`] (then `…`).
+fn name_list(names: &[String]) -> String {
+    let mut out: Vec<String> = names
+        .iter()
+        .take(MAX_NAMES)
+        .map(|n| crate::runtime::spec::text::quoted(n))
+        .collect();
+    if names.len() > MAX_NAMES {
+        out.push(format!("… ({} in all)", names.len()));
     }
-    let mut end = MAX;
-    while !s.is_char_boundary(end) {
-        end -= 1;
+    out.join(", ")
+}
+
+/// A document item as a value: a table as [`SceneValue::Table`], an array
+/// of tables as an array of them (`None`: nothing, or a date inside).
+fn item_value(item: &Item) -> Option<SceneValue> {
+    match item {
+        Item::None => None,
+        Item::Value(v) => SceneValue::from_toml(v),
+        Item::Table(t) => table_value(t),
+        Item::ArrayOfTables(a) => Some(SceneValue::Array(
+            a.iter().map(table_value).collect::<Option<_>>()?,
+        )),
     }
-    format!("{}…", &s[..end])
+}
+
+fn table_value(t: &toml_edit::Table) -> Option<SceneValue> {
+    Some(SceneValue::Table(
+        t.iter()
+            .map(|(k, v)| Some((k.to_string(), item_value(v)?)))
+            .collect::<Option<_>>()?,
+    ))
 }
 
 /// Replace a value in place, keeping its surrounding whitespace and comments.
@@ -433,6 +520,15 @@ impl<'a> NodeMut<'a> {
             },
             Node::Item(Item::None) => None,
         }
+    }
+
+    /// Whether the entries are indexed (an array, an array of tables).
+    fn indexed(&self) -> bool {
+        matches!(
+            self,
+            NodeMut::Item(Item::ArrayOfTables(_) | Item::Value(Value::Array(_)))
+                | NodeMut::Value(Value::Array(_))
+        )
     }
 
     fn describe(&self) -> &'static str {

@@ -24,15 +24,15 @@
 //!   frame (Newton on the residual) and the eigenvalues about it.
 
 use crate::runtime::linear::{
-    eigenvalues, linearize, steady_state, InputLoad, LinearInput, LinearModel, LinearOutput,
-    SteadyMotion,
+    eigenvalues, linearize, steady_state_interruptible, InputLoad, LinearInput, LinearModel,
+    LinearOutput, SteadyMotion,
 };
 use crate::runtime::nalgebra::{Complex, DMatrix, DVector, Vector3};
 use crate::runtime::spec::scene::{
     BodyKind, ForceKind, JointKind, MarkerPoint, Orientation, ProfileSpec, SceneSpec,
 };
 use crate::runtime::spec::FrameModel;
-use crate::runtime::{ForceAxes, ForceElement, State, TorqueLaw};
+use crate::runtime::{ForceAxes, ForceElement, Interrupt, State, TorqueLaw};
 use crate::scene::model::{OutputKind, Scene};
 use crate::scene::provider::KernelProvider;
 use std::ops::ControlFlow;
@@ -259,6 +259,17 @@ pub const MIN_OPERATING_TIME_IN_STEPS: f64 = 1e-12;
 /// state checked). A time `0 < T <` [`MIN_OPERATING_TIME_IN_STEPS`] `× dt`
 /// is refused (use `T = 0`).
 pub fn operating_state(scene: &Scene, at: At) -> crate::Result<State> {
+    operating_state_interruptible(scene, at, Interrupt::NEVER)
+}
+
+/// [`operating_state`], polling `interrupt` after every step of the run to
+/// `T` or Newton iteration of the static solver
+/// ([`crate::runtime::Error::Interrupted`] when it asks to stop).
+pub fn operating_state_interruptible(
+    scene: &Scene,
+    at: At,
+    interrupt: Interrupt<'_>,
+) -> crate::Result<State> {
     let sys = &scene.system;
     let checked = |state: State, what: String| -> crate::Result<State> {
         match crate::runtime::monitor::check_state(sys, &state.q, &state.v) {
@@ -273,11 +284,13 @@ pub fn operating_state(scene: &Scene, at: At) -> crate::Result<State> {
             // The solver of `ffr static` (automatic load stepping), which
             // applies the validity check to the equilibrium it reaches.
             let start = sys.initial_state(0.0)?;
-            Ok(crate::runtime::statics::static_equilibrium(
+            Ok(crate::runtime::statics::equilibrium_interruptible(
                 sys,
                 0.0,
                 &start,
+                SteadyMotion::Rest,
                 &crate::runtime::statics::StaticOptions::default(),
+                interrupt,
             )?
             .state)
         }
@@ -294,8 +307,15 @@ pub fn operating_state(scene: &Scene, at: At) -> crate::Result<State> {
         .into()),
         At::Time(t) => {
             let s = sys.simulate(t, scene.dt.min(t), &scene.integrator, |_| {
-                ControlFlow::Continue(())
+                if interrupt.requested() {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
             })?;
+            if s.stopped {
+                return Err(crate::runtime::Error::Interrupted.into());
+            }
             checked(s.last, format!("the state at t = {} s", short(t)))
         }
     }
@@ -313,6 +333,26 @@ pub fn linearize_scene(
     at: At,
     input_names: Option<&[String]>,
     output_names: Option<&[String]>,
+) -> crate::Result<LinearModel> {
+    linearize_scene_interruptible(
+        spec,
+        provider,
+        at,
+        input_names,
+        output_names,
+        Interrupt::NEVER,
+    )
+}
+
+/// [`linearize_scene`], polling `interrupt` while it finds the operating
+/// state ([`operating_state_interruptible`]).
+pub fn linearize_scene_interruptible(
+    spec: &SceneSpec,
+    provider: &dyn KernelProvider,
+    at: At,
+    input_names: Option<&[String]>,
+    output_names: Option<&[String]>,
+    interrupt: Interrupt<'_>,
 ) -> crate::Result<LinearModel> {
     let default_in = default_inputs(spec);
     let names = input_names.unwrap_or(&default_in);
@@ -343,7 +383,8 @@ pub fn linearize_scene(
         .filter(|i| matches!(i.load, InputLoad::Drive { .. }))
         .count();
     crate::runtime::linear::check_dense_size(&scene.system, drives)?;
-    let state = operating_state(&scene, at)?;
+    let state = operating_state_interruptible(&scene, at, interrupt)?;
+    interrupt.check()?;
     Ok(linearize(&scene.system, &state, &ins, &outs)?)
 }
 
@@ -771,6 +812,21 @@ pub fn campbell_with(
     count: usize,
     each: &mut EachSpeed<'_>,
 ) -> crate::Result<Campbell> {
+    campbell_interruptible(spec, provider, speeds, joint, count, each, Interrupt::NEVER)
+}
+
+/// [`campbell_with`], polling `interrupt` at every speed and every Newton
+/// iteration of its steady state ([`crate::runtime::Error::Interrupted`]
+/// when it asks to stop).
+pub fn campbell_interruptible(
+    spec: &SceneSpec,
+    provider: &dyn KernelProvider,
+    speeds: &[f64],
+    joint: Option<usize>,
+    count: usize,
+    each: &mut EachSpeed<'_>,
+    interrupt: Interrupt<'_>,
+) -> crate::Result<Campbell> {
     let ji = campbell_joint(spec, joint)?;
     let j = &spec.joints[ji];
     let center = match j.a.as_ref().map(|a| a.point) {
@@ -828,6 +884,7 @@ pub fn campbell_with(
     }
     let mut modes = Vec::with_capacity(speeds.len());
     for (i, &w) in speeds.iter().enumerate() {
+        interrupt.check()?;
         let mut s = spec.clone();
         s.joints[ji].drive = Some((ProfileSpec::ConstantRate { start, rate: w }, at.clone()));
         let scene = super::build(&s, provider)?;
@@ -837,8 +894,17 @@ pub fn campbell_with(
         let init = sys.initial_state(0.0).map_err(|e| at_speed(&e))?;
         // The steady state passes the validity check in its solver
         // (`crate::runtime::monitor::check_state`).
-        let state = steady_state(sys, 0.0, &init, SteadyMotion::Rotation { center, omega: w })
-            .map_err(|e| at_speed(&e))?;
+        let state = steady_state_interruptible(
+            sys,
+            0.0,
+            &init,
+            SteadyMotion::Rotation { center, omega: w },
+            interrupt,
+        )
+        .map_err(|e| match e {
+            crate::runtime::Error::Interrupted => crate::Error::from(e),
+            e => at_speed(&e).into(),
+        })?;
         let model = linearize(sys, &state, &[], &[]).map_err(|e| at_speed(&e))?;
         let labels = crate::runtime::linear::coordinate_labels(sys);
         let m = self::modes(&labels, &model, count).map_err(|e| at_speed(&e))?;

@@ -46,4 +46,4 @@ pub use model::{input_files, EnergyPart, Output, OutputKind, Scene, MAX_RECORDED
 pub use provider::KernelProvider;
 #[cfg(feature = "scene-files")]
 pub use provider::{DefaultKernels, GeneralKernels};
-pub use run::{run, run_with, RunOptions, SceneRun};
+pub use run::{run, run_interruptible, run_with, RunOptions, SceneRun};

@@ -2,7 +2,7 @@
 
 use super::model::{EnergyPart, OutputKind, Scene};
 use crate::runtime::marker::MarkerKin;
-use crate::runtime::{Assembly, Body};
+use crate::runtime::{Assembly, Body, Interrupt};
 use std::ops::ControlFlow;
 
 /// The recorded outputs of a scene run.
@@ -53,7 +53,7 @@ pub struct RunOptions {
 
 /// Run `scene` to its end time, recording every output at every step.
 pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
-    run_observed(scene, |_, _| ControlFlow::Continue(()))
+    run_observed(scene, Interrupt::NEVER, |_, _| ControlFlow::Continue(()))
 }
 
 /// [`run`] with `options`: with `vtk`, the time series is checked before
@@ -62,18 +62,37 @@ pub fn run(scene: &Scene) -> Result<SceneRun, crate::runtime::Error> {
 /// ([`SceneRun::failed`]). A sample to write whose coordinates are not all
 /// finite stops the run with an error (the `.pvd` lists the files before it).
 pub fn run_with(scene: &Scene, options: &RunOptions) -> crate::Result<SceneRun> {
+    run_interruptible(scene, options, Interrupt::NEVER)
+}
+
+/// [`run_with`], polling `interrupt` after every step: when it asks to
+/// stop, [`crate::runtime::Error::Interrupted`] (a VTK series keeps the
+/// files written so far, listed in its `.pvd`).
+pub fn run_interruptible(
+    scene: &Scene,
+    options: &RunOptions,
+    interrupt: Interrupt<'_>,
+) -> crate::Result<SceneRun> {
     #[cfg(feature = "vtk")]
     if let Some(v) = &options.vtk {
         let mut series =
             super::vtk::VtkSeries::new(scene, v, &super::vtk::scene_stem(&scene.origin))?;
         let mut failure = None;
-        let r = run_observed(scene, |t, q| match series.observe(t, q) {
+        let r = run_observed(scene, interrupt, |t, q| match series.observe(t, q) {
             Ok(()) => ControlFlow::Continue(()),
             Err(e) => {
                 failure = Some(e);
                 ControlFlow::Break(())
             }
-        })?;
+        });
+        let r = match r {
+            Err(e @ crate::runtime::Error::Interrupted) => {
+                // The .pvd of the files written so far (best effort).
+                let _ = series.finish();
+                return Err(e.into());
+            }
+            r => r?,
+        };
         if let Some(e) = failure {
             // The .pvd of the files written before (best effort: the
             // error reported is the one that stopped the series).
@@ -84,13 +103,17 @@ pub fn run_with(scene: &Scene, options: &RunOptions) -> crate::Result<SceneRun> 
         return Ok(r);
     }
     let _ = options;
-    Ok(run(scene)?)
+    Ok(run_observed(scene, interrupt, |_, _| {
+        ControlFlow::Continue(())
+    })?)
 }
 
 /// [`run`], calling `observe(t, q)` at every recorded sample after its
-/// outputs (a `Break` stops the run there).
+/// outputs (a `Break` stops the run there) and then `interrupt` (which
+/// stops it with [`crate::runtime::Error::Interrupted`]).
 fn run_observed(
     scene: &Scene,
+    interrupt: Interrupt<'_>,
     mut observe: impl FnMut(f64, &[f64]) -> ControlFlow<()>,
 ) -> Result<SceneRun, crate::runtime::Error> {
     let sys = &scene.system;
@@ -121,6 +144,7 @@ fn run_observed(
     let start = std::time::Instant::now();
     // Steps and Newton iterations so far (a failed run reports how far it got).
     let (mut steps, mut iterations) = (0, 0);
+    let mut interrupted = false;
     let res = sys.simulate(scene.t_end, scene.dt, &scene.integrator, |v| {
         steps = v.step;
         iterations += v.iterations;
@@ -138,8 +162,18 @@ fn run_observed(
         recorder.record(scene, v.assembly, q, qd, (work, dissipated), |i, value| {
             out.columns[i].push(value)
         });
-        observe(v.state.t, q)
+        if observe(v.state.t, q).is_break() {
+            return ControlFlow::Break(());
+        }
+        if interrupt.requested() {
+            interrupted = true;
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
     });
+    if interrupted {
+        return Err(crate::runtime::Error::Interrupted);
+    }
     out.wall = start.elapsed().as_secs_f64();
     match res {
         Ok(s) => {

@@ -13,9 +13,10 @@
 
 use super::model::Scene;
 use super::run::Recorder;
-use crate::runtime::statics::{static_equilibrium, Equilibrium};
+use crate::runtime::linear::SteadyMotion;
+use crate::runtime::statics::{equilibrium_interruptible, Equilibrium};
 pub use crate::runtime::statics::{StaticOptions, MAX_STEPS};
-use crate::runtime::{Assembly, State};
+use crate::runtime::{Assembly, Interrupt, State};
 
 /// A scene's static equilibrium and its outputs.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,13 +43,23 @@ pub struct SceneStatic {
 /// outputs there. No equilibrium, a mechanism, an unstable equilibrium or
 /// an output that is not finite is an error saying so.
 pub fn solve(scene: &Scene, options: &StaticOptions) -> crate::Result<SceneStatic> {
+    solve_interruptible(scene, options, Interrupt::NEVER)
+}
+
+/// [`solve`], polling `interrupt` at every Newton iteration: when it asks
+/// to stop, [`crate::runtime::Error::Interrupted`].
+pub fn solve_interruptible(
+    scene: &Scene,
+    options: &StaticOptions,
+    interrupt: Interrupt<'_>,
+) -> crate::Result<SceneStatic> {
     let sys = &scene.system;
     let start = sys.initial_state(0.0)?;
     let Equilibrium {
         state,
         steps,
         iterations,
-    } = static_equilibrium(sys, 0.0, &start, options)?;
+    } = equilibrium_interruptible(sys, 0.0, &start, SteadyMotion::Rest, options, interrupt)?;
     let mut asm = Assembly::new(sys)?;
     let mut recorder = Recorder::new(scene);
     let mut values = vec![f64::NAN; scene.outputs.len()];
