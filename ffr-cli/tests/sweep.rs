@@ -664,3 +664,22 @@ fn references_store_the_columns_named_within_a_bound() {
         "{e}"
     );
 }
+
+/// Found by tests/fuzz_studies.rs: an integer range whose steps pass i64
+/// (`from + i step` computed in i64) panicked in a debug build and wrapped
+/// in a release build.
+#[test]
+fn integer_ranges_near_the_ends_of_i64_are_exact() {
+    let dir = temp_dir("i64");
+    let s = study(
+        &dir,
+        "study.toml",
+        "\"bodies.beam.elements\" = { from = -9223372036854775808, to = 9223372036854775807, step = 9223372036854775807 }",
+        "tip = { output = \"tip_transverse\", stat = \"min\" }",
+    );
+    let st = sweep::read(&s).unwrap();
+    assert_eq!(
+        st.axes[0].values,
+        [i64::MIN, -1, i64::MAX - 1].map(SceneValue::Int)
+    );
+}

@@ -586,7 +586,11 @@ fn axis_values(r: &Reader, axis: &Spanned<RawAxis>) -> Result<Vec<SceneValue>, S
                 if n > MAX_CASES as u128 {
                     return Err(r.err(step.span(), format!("the range has more than {MAX_CASES} values (MAX_CASES)")));
                 }
-                Ok((0..n as i64).map(|i| SceneValue::Int(a + i * s)).collect())
+                // In i128: `i s` may pass i64 though every value, at most
+                // `to`, fits.
+                Ok((0..n as i128)
+                    .map(|i| SceneValue::Int((a as i128 + i * s as i128) as i64))
+                    .collect())
             }
             _ => Err(r.err(span, "a range needs exactly one of `steps` (numbers, ends included) and `step` (integers)")),
         };
