@@ -9,8 +9,9 @@ The ffr binary is the conftest's `ffr_bin` fixture: the release binary
 cargo builds (wherever CARGO_TARGET_DIR puts it), or $FFR_BIN if set.
 """
 
+import contextlib
 import csv
-import os
+import json
 import shutil
 import signal
 import socket
@@ -205,10 +206,44 @@ def test_a_scheduler_without_workers_is_stopped_by_the_watchdog(tmp_path, ffr_bi
         assert row["tip_min"] == ""
 
 
-def test_a_sweep_whose_only_worker_dies_writes_its_finished_rows(tmp_path, ffr_bin):
-    """Issue 36: when the only worker died, the sweep waited forever and wrote
-    nothing. A scheduler and one worker (without a nanny, so that it stays
-    dead) as processes; the worker is killed after the first case."""
+@contextlib.contextmanager
+def scheduler_and_worker(tmp_path):
+    """A Dask scheduler and one worker (without a nanny, so that a killed
+    worker stays dead) as processes on loopback: (address, scheduler,
+    worker)."""
+    sched_file = tmp_path / "scheduler.json"
+    procs = []
+    try:
+        procs.append(subprocess.Popen(
+            [sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1",
+             "--port", "0", "--dashboard-address", ":0", "--scheduler-file", str(sched_file)],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        ))
+        address = None
+        for _ in range(1200):
+            try:
+                address = json.loads(sched_file.read_text())["address"]
+                break
+            except (OSError, ValueError, KeyError):
+                time.sleep(0.1)
+        assert address, "the scheduler did not start"
+        procs.append(subprocess.Popen(
+            [sys.executable, "-m", "distributed.cli.dask_worker", address, "--no-nanny",
+             "--nthreads", "1", "--dashboard-address", ":0", "--host", "127.0.0.1"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        ))
+        yield address, procs[0], procs[1]
+    finally:
+        for q in procs:
+            if q.poll() is None:
+                q.kill()
+                q.wait(timeout=60)
+
+
+def sweep_until_first_case(ffr_bin, tmp_path, address, kill):
+    """A 4-case study (case 0 short, the others long) on the cluster at
+    `address`; `kill` (a process) is killed once case 0 is done. The
+    sweep's (returncode, stdout, stderr) and its table's rows."""
     study = tmp_path / "study.toml"
     study.write_text(
         f'scene = "{ROOT / "scenes" / "spin_up.toml"}"\n'
@@ -217,54 +252,49 @@ def test_a_sweep_whose_only_worker_dies_writes_its_finished_rows(tmp_path, ffr_b
         "[collect]\n"
         'tip_min = { output = "tip_transverse", stat = "min" }\n'
     )
-    sched_file = tmp_path / "scheduler.json"
-    env = dict(os.environ, DASK_DISTRIBUTED__WORKER__DAEMON="False")
-    procs = []
+    p = subprocess.Popen(
+        [str(ffr_bin), "sweep", str(study), "--out", str(tmp_path / "out"), "--engine", "dask",
+         "--scheduler", address, "--python", sys.executable, "--stall-timeout", "3"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
     try:
-        procs.append(subprocess.Popen(
-            [sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1",
-             "--port", "0", "--dashboard-address", ":0", "--scheduler-file", str(sched_file)],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
-        ))
-        for _ in range(600):
-            if sched_file.exists() and sched_file.stat().st_size > 0:
-                break
-            time.sleep(0.1)
-        import json
-        for _ in range(50):
-            try:
-                address = json.loads(sched_file.read_text())["address"]
-                break
-            except ValueError:
-                time.sleep(0.1)
-        worker = subprocess.Popen(
-            [sys.executable, "-m", "distributed.cli.dask_worker", address, "--no-nanny",
-             "--nthreads", "1", "--dashboard-address", ":0", "--host", "127.0.0.1"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
-        )
-        procs.append(worker)
-        p = subprocess.Popen(
-            [str(ffr_bin), "sweep", str(study), "--out", str(tmp_path / "out"), "--engine", "dask",
-             "--scheduler", address, "--python", sys.executable, "--stall-timeout", "3"],
-            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-        )
-        procs.append(p)
         # The progress lines (one per finished case) come on stderr.
         first = p.stderr.readline()
         assert first.startswith("[case 0 of 4]") and ": ok" in first, first
-        worker.send_signal(signal.SIGKILL)
-        worker.wait(timeout=60)
+        kill.send_signal(signal.SIGKILL)
+        kill.wait(timeout=60)
         out, err = p.communicate(timeout=300)
     finally:
-        for q in procs:
-            if q.poll() is None:
-                q.kill()
-                q.wait(timeout=60)
-    assert p.returncode != 0
+        if p.poll() is None:
+            p.kill()
+            p.wait(timeout=60)
+    got = rows(tmp_path / "out" / "results.csv")
+    assert [r["status"] for r in got] == ["ok", "failed", "failed", "failed"], got
+    assert float(got[0]["tip_min"]) < 0.0
+    return p.returncode, out, first + err, got
+
+
+def test_a_sweep_whose_only_worker_dies_writes_its_finished_rows(tmp_path, ffr_bin):
+    """Issue 36: when the only worker died, the sweep waited forever and wrote
+    nothing. The worker is killed after the first case: the watchdog stops
+    the sweep, row 0 is written, the others are failed `not run`."""
+    with scheduler_and_worker(tmp_path) as (address, _, worker):
+        rc, out, err, got = sweep_until_first_case(ffr_bin, tmp_path, address, worker)
+    assert rc != 0
     assert "the sweep stopped: no case finished and none ran on a Dask worker for 3 s (--stall-timeout; the scheduler has 0 workers)" in err, err
     assert "4 cases: 1 ok, 3 failed" in out, out
-    got = rows(tmp_path / "out" / "results.csv")
-    assert [r["status"] for r in got] == ["ok", "failed", "failed", "failed"]
-    assert float(got[0]["tip_min"]) < 0.0
     for row in got[1:]:
         assert row["message"].startswith("not run: no case finished and none ran"), row["message"]
+
+
+def test_a_sweep_whose_scheduler_dies_writes_its_finished_rows(tmp_path, ffr_bin):
+    """The scheduler killed after the first case: row 0 is written, the
+    others are failed rows saying the connection was lost."""
+    with scheduler_and_worker(tmp_path) as (address, scheduler, _):
+        rc, out, err, got = sweep_until_first_case(ffr_bin, tmp_path, address, scheduler)
+    assert rc != 0
+    assert "4 cases: 1 ok, 3 failed" in out, out
+    for row in got[1:]:
+        m = row["message"]
+        assert m.startswith("not run: ") or m.startswith("the Dask cluster could not run the case: "), m
+        assert "scheduler" in m, m

@@ -99,11 +99,15 @@ def main():
                 if f.status == "finished":
                     emit("FFR-CASE", f.result())
                 else:
+                    why = f"its task was {f.status}"
                     try:
-                        e = f.exception(timeout=10)
-                        why = f"{type(e).__name__}: {e}"
-                    except Exception as e2:
-                        why = f"task {f.status} ({type(e2).__name__}: {e2})"
+                        e = f.exception(timeout=10) if f.status == "error" else None
+                        if e is not None:
+                            why = f"{type(e).__name__}: {e}"
+                    except Exception:
+                        pass
+                    if client.status != "running":
+                        why += f" (the connection to the Dask scheduler at {scheduler} was lost)"
                     emit("FFR-CASE", {"case": i, "error": why})
                 left -= 1
                 last_progress = now
