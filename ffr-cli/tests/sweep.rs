@@ -218,7 +218,10 @@ fn failed_cases_are_rows_and_the_command_exits_non_zero() {
 
 /// The error of reading a study with this text.
 fn study_error(text: &str) -> String {
-    let dir = temp_dir("bad");
+    // A directory per call: tests run in parallel.
+    static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = temp_dir(&format!("bad{n}"));
     let p = dir.join("bad.toml");
     std::fs::write(&p, text.replace("SCENE", &spin_up_scene())).unwrap();
     let e = sweep::read(&p).unwrap_err().to_string();
@@ -682,4 +685,39 @@ fn integer_ranges_near_the_ends_of_i64_are_exact() {
         st.axes[0].values,
         [i64::MIN, -1, i64::MAX - 1].map(SceneValue::Int)
     );
+}
+
+/// The Dask engine's timeouts are positive and at most MAX_TIMEOUT_S (a
+/// year): the watchdog's deadlines are durations built from them.
+#[test]
+fn dask_timeouts_out_of_range_are_refused() {
+    let dir = temp_dir("timeouts");
+    let s = study(&dir, "study.toml", "t_end = [0.5]", COLLECT);
+    let out = dir.join("out");
+    for (flag, value) in [
+        ("--connect-timeout", "1e300"),
+        ("--connect-timeout", "0"),
+        ("--stall-timeout", "-1"),
+        ("--stall-timeout", "inf"),
+    ] {
+        let arg = format!("{flag}={value}");
+        let (ok, _, err) = ffr(&[
+            "sweep",
+            s.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--engine",
+            "dask",
+            "--scheduler",
+            "tcp://127.0.0.1:9",
+            &arg,
+        ]);
+        assert!(
+            !ok && err.contains(&format!(
+                "{flag} must be a positive number of seconds, at most 3.2e7 (MAX_TIMEOUT_S)"
+            )),
+            "{flag} {value}: {err}"
+        );
+        assert!(!out.exists());
+    }
 }
