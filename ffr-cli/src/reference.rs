@@ -9,8 +9,11 @@ use crate::benchmarks::spin_up::interpolate;
 pub struct Reference {
     /// Where it comes from (one line).
     pub source: String,
-    /// Column names after `t`.
+    /// The names of the columns read (after `t`; all of them unless the
+    /// reader was given the ones wanted).
     pub columns: Vec<String>,
+    /// Every column name of the header after `t`, read or not.
+    pub header: Vec<String>,
     /// Times (s).
     pub t: Vec<f64>,
     /// One vector per column.
@@ -42,6 +45,7 @@ fn parse(text: &str, source: &str) -> Reference {
     Reference {
         source: source.to_string(),
         columns: header[1..].to_vec(),
+        header: header[1..].to_vec(),
         t,
         values,
     }
@@ -79,26 +83,137 @@ pub fn spin_up_gravity() -> Reference {
 /// The most bytes a reference CSV read by [`Reference::read`] may have.
 pub const MAX_REFERENCE_BYTES: u64 = 64 << 20;
 
-impl Reference {
-    /// A reference history from a CSV file: a header `t,NAME,…`, then rows
-    /// of finite numbers, times strictly increasing. Errors name
-    /// `file:line` (or the file) and the problem.
-    pub fn read(path: &std::path::Path) -> Result<Reference, String> {
-        let file = ffr::codegen::sanitize::snippet(&path.display().to_string(), usize::MAX);
-        let bytes = ffr::codegen::limits::read_input(
-            path,
-            MAX_REFERENCE_BYTES,
-            "reference CSV",
-            "MAX_REFERENCE_BYTES",
+/// The most numbers (times and the values of the columns read) that the
+/// references one command reads may hold together: 2^24 numbers, 128 MiB
+/// of `f64`. Checked after counting a file's rows, before its numbers are
+/// stored; a study's references share it.
+pub const MAX_REFERENCE_VALUES: usize = 1 << 24;
+
+/// The longest line of a reference CSV, in bytes (a line is parsed whole).
+pub const MAX_REFERENCE_LINE: usize = 1 << 20;
+
+/// The most columns of a reference CSV (`t` included).
+pub const MAX_REFERENCE_COLUMNS: usize = 4096;
+
+/// A line of a reference CSV longer than [`MAX_REFERENCE_LINE`] (the error
+/// inside the `io::Error` the CSV reader passes on).
+#[derive(Debug)]
+struct LineTooLong(u64);
+
+impl std::fmt::Display for LineTooLong {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "line {} is longer than {MAX_REFERENCE_LINE} bytes (MAX_REFERENCE_LINE)",
+            self.0
         )
-        .map_err(|m| format!("{file}: {m}"))?;
-        let mut rd = csv::ReaderBuilder::new()
-            .has_headers(true)
-            .trim(csv::Trim::All)
-            .from_reader(bytes.as_slice());
+    }
+}
+
+impl std::error::Error for LineTooLong {}
+
+/// A reader that fails on a line longer than [`MAX_REFERENCE_LINE`], so
+/// that no record is larger (the CSV reader holds a record whole).
+struct Lines<R> {
+    inner: R,
+    line: u64,
+    since_newline: usize,
+}
+
+impl<R: std::io::Read> std::io::Read for Lines<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        for &b in &buf[..n] {
+            if b == b'\n' {
+                self.line += 1;
+                self.since_newline = 0;
+            } else {
+                self.since_newline += 1;
+                if self.since_newline > MAX_REFERENCE_LINE {
+                    return Err(std::io::Error::other(LineTooLong(self.line)));
+                }
+            }
+        }
+        Ok(n)
+    }
+}
+
+/// A CSV reader over `f` as a reference is read (headers, fields trimmed,
+/// at most [`MAX_REFERENCE_BYTES`] + 1 bytes, lines bounded).
+fn reader(f: &mut std::fs::File) -> csv::Reader<Lines<std::io::Take<&mut std::fs::File>>> {
+    use std::io::Read;
+    csv::ReaderBuilder::new()
+        .has_headers(true)
+        .trim(csv::Trim::All)
+        .from_reader(Lines {
+            inner: f.take(MAX_REFERENCE_BYTES + 1),
+            line: 1,
+            since_newline: 0,
+        })
+}
+
+impl Reference {
+    /// A reference history from a CSV file, every column: a header
+    /// `t,NAME,…`, then rows of finite numbers, times strictly increasing
+    /// (see [`Reference::read_columns`]).
+    pub fn read(path: &std::path::Path) -> Result<Reference, String> {
+        Reference::read_columns(path, None, 0)
+    }
+
+    /// A reference history from a CSV file: a header `t,NAME,…` (names
+    /// distinct), then rows of numbers, times strictly increasing and
+    /// finite. Only the columns named in `wanted` that the file has are
+    /// stored (every column with `None`), and only theirs are checked to
+    /// be finite numbers; the others must be there (as many fields as the
+    /// header), nothing more. The file is read twice, as a stream: once to
+    /// count its rows, then, if the times and the columns read fit in
+    /// [`MAX_REFERENCE_VALUES`] with the `already` numbers other
+    /// references hold, to store them. Errors name `file:line` (or the
+    /// file) and the problem.
+    pub fn read_columns(
+        path: &std::path::Path,
+        wanted: Option<&[&str]>,
+        already: usize,
+    ) -> Result<Reference, String> {
+        use std::io::Seek;
+        let file = ffr::codegen::sanitize::snippet(&path.display().to_string(), usize::MAX);
+        let at = |m: String| format!("{file}: {m}");
+        let meta = std::fs::metadata(path).map_err(|e| at(e.to_string()))?;
+        if meta.is_dir() {
+            return Err(at("is a directory, not a reference CSV".into()));
+        }
+        if !meta.is_file() {
+            return Err(at(format!(
+                "is {}, not a regular file: a reference CSV must be a regular file (not read)",
+                ffr::codegen::limits::special_kind(&meta.file_type())
+            )));
+        }
+        let too_large = || {
+            at(format!(
+                "larger than {MAX_REFERENCE_BYTES} bytes, the limit for reference CSVs (MAX_REFERENCE_BYTES): not read"
+            ))
+        };
+        if meta.len() > MAX_REFERENCE_BYTES {
+            return Err(too_large());
+        }
+        let mut f = std::fs::File::open(path).map_err(|e| at(e.to_string()))?;
+        let csv_error = |e: csv::Error| -> String {
+            if let csv::ErrorKind::Io(io) = e.kind() {
+                if let Some(long) = io.get_ref().and_then(|x| x.downcast_ref::<LineTooLong>()) {
+                    return format!("{file}:{}: {long}", long.0);
+                }
+            }
+            let line = e.position().map_or(0, |p| p.line());
+            format!(
+                "{file}:{line}: {}",
+                ffr::codegen::sanitize::snippet(&e.to_string(), 200)
+            )
+        };
+        // First pass: the header, and the rows counted.
+        let mut rd = reader(&mut f);
         let header: Vec<String> = rd
             .headers()
-            .map_err(|e| format!("{file}:1: {e}"))?
+            .map_err(csv_error)?
             .iter()
             .map(str::to_string)
             .collect();
@@ -107,13 +222,29 @@ impl Reference {
                 "{file}:1: the header must be `t` and one name per column (`t,tip_transverse`)"
             ));
         }
-        let mut t: Vec<f64> = Vec::new();
-        let mut values = vec![Vec::new(); header.len() - 1];
-        for rec in rd.records() {
-            let rec = rec.map_err(|e| {
-                let line = e.position().map_or(0, |p| p.line());
-                format!("{file}:{line}: {e}")
-            })?;
+        if header.len() > MAX_REFERENCE_COLUMNS {
+            return Err(format!(
+                "{file}:1: {} columns, more than {MAX_REFERENCE_COLUMNS} (MAX_REFERENCE_COLUMNS)",
+                header.len()
+            ));
+        }
+        for (j, name) in header.iter().enumerate() {
+            if let Some(i) = header[..j].iter().position(|h| h == name) {
+                return Err(format!(
+                    "{file}:1: column `{}` appears twice (columns {} and {}); name each column once",
+                    ffr::codegen::sanitize::snippet(name, 64),
+                    i + 1,
+                    j + 1
+                ));
+            }
+        }
+        // The columns stored: their index in a row, and their names.
+        let read: Vec<usize> = (1..header.len())
+            .filter(|&i| wanted.is_none_or(|w| w.contains(&header[i].as_str())))
+            .collect();
+        let mut rec = csv::ByteRecord::new();
+        let mut rows: usize = 0;
+        while rd.read_byte_record(&mut rec).map_err(csv_error)? {
             let line = rec.position().map_or(0, |p| p.line());
             if rec.len() != header.len() {
                 return Err(format!(
@@ -122,39 +253,81 @@ impl Reference {
                     header.len()
                 ));
             }
-            for (i, f) in rec.iter().enumerate() {
-                let x: f64 = f
-                    .parse()
-                    .ok()
-                    .filter(|x: &f64| x.is_finite())
-                    .ok_or_else(|| {
-                        format!(
-                            "{file}:{line}: `{}` in column `{}` is not a finite number",
-                            ffr::codegen::sanitize::snippet(f, 40),
-                            header[i]
-                        )
-                    })?;
-                if i == 0 {
-                    if t.last().is_some_and(|&p| !(x > p)) {
-                        return Err(format!(
-                            "{file}:{line}: t = {x} does not come after the previous time"
-                        ));
-                    }
-                    t.push(x);
-                } else {
-                    values[i - 1].push(x);
-                }
+            rows += 1;
+        }
+        if rd.into_inner().inner.limit() == 0 {
+            return Err(too_large());
+        }
+        if rows == 0 {
+            return Err(at("no rows after the header".into()));
+        }
+        // The bound, before anything is stored.
+        let per_row = 1 + read.len();
+        let values = rows.saturating_mul(per_row);
+        if values.saturating_add(already) > MAX_REFERENCE_VALUES {
+            return Err(at(if already == 0 {
+                format!(
+                    "{rows} rows of t and {} column(s) read are {values} numbers, more than MAX_REFERENCE_VALUES ({MAX_REFERENCE_VALUES}); give a shorter or coarser reference",
+                    read.len()
+                )
+            } else {
+                format!(
+                    "{rows} rows of t and {} column(s) read are {values} numbers; with the {already} of the other references read that is more than MAX_REFERENCE_VALUES ({MAX_REFERENCE_VALUES}) together; give shorter or coarser references, or fewer of them",
+                    read.len()
+                )
+            }));
+        }
+        // Second pass: the numbers of the columns read.
+        f.rewind().map_err(|e| at(e.to_string()))?;
+        let mut rd = reader(&mut f);
+        rd.byte_headers().map_err(csv_error)?;
+        let mut t: Vec<f64> = Vec::with_capacity(rows);
+        let mut cols: Vec<Vec<f64>> = read.iter().map(|_| Vec::with_capacity(rows)).collect();
+        let number = |f: &[u8], i: usize, line: u64| -> Result<f64, String> {
+            std::str::from_utf8(f)
+                .ok()
+                .and_then(|s| s.parse::<f64>().ok())
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    format!(
+                        "{file}:{line}: `{}` in column `{}` is not a finite number",
+                        ffr::codegen::sanitize::snippet(&String::from_utf8_lossy(f), 40),
+                        ffr::codegen::sanitize::snippet(&header[i], 64)
+                    )
+                })
+        };
+        while rd.read_byte_record(&mut rec).map_err(csv_error)? {
+            let line = rec.position().map_or(0, |p| p.line());
+            if t.len() == rows || rec.len() != header.len() {
+                return Err(at("changed while it was read".into()));
+            }
+            let x = number(&rec[0], 0, line)?;
+            if t.last().is_some_and(|&p| !(x > p)) {
+                return Err(format!(
+                    "{file}:{line}: t = {} does not come after the previous time",
+                    crate::output::number(x)
+                ));
+            }
+            t.push(x);
+            for (c, &i) in cols.iter_mut().zip(&read) {
+                c.push(number(&rec[i], i, line)?);
             }
         }
-        if t.is_empty() {
-            return Err(format!("{file}: no rows after the header"));
+        if t.len() != rows {
+            return Err(at("changed while it was read".into()));
         }
         Ok(Reference {
             source: file,
-            columns: header[1..].to_vec(),
+            columns: read.iter().map(|&i| header[i].clone()).collect(),
+            header: header[1..].to_vec(),
             t,
-            values,
+            values: cols,
         })
+    }
+
+    /// The numbers this reference holds (times and the columns read).
+    pub fn numbers(&self) -> usize {
+        self.t.len() * (1 + self.values.len())
     }
 
     /// The column named `name`.

@@ -52,6 +52,7 @@ fn args(study: &Path, out: &Path, workers: u16) -> SweepArgs {
         python: None,
         worker_ffr: None,
         connect_timeout: 20.0,
+        stall_timeout: 60.0,
         case: None,
         json: false,
     }
@@ -217,7 +218,10 @@ fn failed_cases_are_rows_and_the_command_exits_non_zero() {
 
 /// The error of reading a study with this text.
 fn study_error(text: &str) -> String {
-    let dir = temp_dir("bad");
+    // A directory per call: tests run in parallel.
+    static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = temp_dir(&format!("bad{n}"));
     let p = dir.join("bad.toml");
     std::fs::write(&p, text.replace("SCENE", &spin_up_scene())).unwrap();
     let e = sweep::read(&p).unwrap_err().to_string();
@@ -436,4 +440,284 @@ fn the_dask_engine_without_python_or_scheduler_is_a_clear_error() {
         "{err}"
     );
     assert!(!out.join("results.csv").exists());
+}
+
+/// Issue 36: a range whose finite ends are more than `f64::MAX` apart.
+/// Before, `uniform` panicked (exit 101) and `steps` gave NaN values whose
+/// message blamed the scene ("NaN is not a finite number").
+#[test]
+fn ranges_whose_width_overflows_are_values_or_located_errors() {
+    let head = "scene = \"SCENE\"\n[axes]\n";
+    let tip = "[collect]\ntip = { output = \"tip_transverse\", stat = \"min\" }\n";
+    // `steps`: the ends and the points between them, finite.
+    let dir = temp_dir("overflow");
+    let s = study(
+        &dir,
+        "study.toml",
+        "\"bodies.beam.params.e\" = { from = -1e308, to = 1e308, steps = 5 }",
+        "tip = { output = \"tip_transverse\", stat = \"min\" }",
+    );
+    let st = sweep::read(&s).unwrap();
+    assert_eq!(
+        st.axes[0].values,
+        [-1e308, -5e307, 0.0, 5e307, 1e308].map(SceneValue::Float)
+    );
+    // Samples that cannot be drawn, or that overflow: located errors.
+    for (axis, at, what) in [
+        (
+            "t_end = { uniform = [-1e308, 1e308], samples = 3, seed = 1 }",
+            "bad.toml:3:21",
+            "is not a finite number",
+        ),
+        (
+            "t_end = { normal = [1e308, 1e308], samples = 20, seed = 1 }",
+            "bad.toml:3:20",
+            "is inf, not a finite number",
+        ),
+    ] {
+        let e = study_error(&format!("{head}{axis}\n{tip}"));
+        assert!(e.starts_with(at) && e.contains(what), "{e}");
+        assert!(!e.contains("NaN"), "{e}");
+    }
+}
+
+/// Issue 36: two axes reaching one place (the same key with another index
+/// spelling, or one inside the other) made rows report values the run did
+/// not use; they are refused at the second key.
+#[test]
+fn axes_on_one_place_are_refused() {
+    let head = "scene = \"SCENE\"\n[axes]\n";
+    let tip = "[collect]\ntip = { output = \"tip_transverse\", stat = \"min\" }\n";
+    let drive = "{ kind = \"spin-up\", omega = 2.0, ramp = 15.0 }";
+    for (axes, at, what) in [
+        (
+            "\"joints.0.drive.omega\" = [1.0, 2.0]\n\"joints.00.drive.omega\" = [3.0]".to_string(),
+            "bad.toml:4:1",
+            "axis `joints.00.drive.omega` sets the same place as axis `joints.0.drive.omega` (line 3)",
+        ),
+        (
+            format!("\"joints.0.drive\" = [{drive}]\n\"joints.0.drive.omega\" = [3.0]"),
+            "bad.toml:4:1",
+            "axis `joints.0.drive.omega` sets a value inside the place of axis `joints.0.drive` (line 3)",
+        ),
+        (
+            format!("\"joints.0.drive.omega\" = [3.0]\nt_end = [1.0]\n\"joints.000.drive\" = [{drive}]"),
+            "bad.toml:5:1",
+            "axis `joints.000.drive` sets the place holding axis `joints.0.drive.omega` (line 3)",
+        ),
+    ] {
+        let e = study_error(&format!("{head}{axes}\n{tip}"));
+        assert!(e.starts_with(at) && e.contains(what), "{e}");
+    }
+    // Places side by side are fine.
+    let dir = temp_dir("places");
+    let s = study(
+        &dir,
+        "study.toml",
+        "\"joints.0.drive.omega\" = [1.0]\n\"joints.0.drive.ramp\" = [10.0]\n\"bodies.beam.params.e\" = [7e10]",
+        "tip = { output = \"tip_transverse\", stat = \"min\" }",
+    );
+    assert_eq!(sweep::read(&s).unwrap().axes.len(), 3);
+}
+
+/// No control, bidi or other invisible character of `s` is raw.
+fn assert_escaped(s: &str) {
+    let raw = s
+        .chars()
+        .find(|&c| (c.is_control() && c != '\n') || ('\u{200b}'..='\u{202e}').contains(&c));
+    assert!(raw.is_none(), "raw {raw:?} in {s:?}");
+}
+
+/// Issue 36: axis keys with escape sequences, bidi overrides and newlines
+/// reached the terminal raw (in the study's errors and the failed rows).
+#[test]
+fn user_text_from_a_study_is_escaped() {
+    let dir = temp_dir("escape");
+    let hostile = [
+        "joints\\u001b]0;X\\u0007.0.drive",
+        "joints.0.dr\\u202eive.omega",
+        "bodies.be\\nam.elements",
+    ];
+    for key in hostile {
+        // A key that does not reach the scene: the study's error.
+        let s = dir.join("study.toml");
+        std::fs::write(
+            &s,
+            format!(
+                "scene = {:?}\n[axes]\n\"{key}\" = [1.0]\n[collect]\ntip = {{ output = \"tip_transverse\", stat = \"min\" }}\n",
+                spin_up_scene()
+            ),
+        )
+        .unwrap();
+        let (ok, out, err) = ffr(&[
+            "sweep",
+            s.to_str().unwrap(),
+            "--out",
+            dir.join("o").to_str().unwrap(),
+        ]);
+        assert!(!ok && err.contains("study.toml:3:1: axis `"), "{err}");
+        assert_escaped(&out);
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert_escaped(err.trim_end());
+    }
+    // A key the scene takes (a new field) whose cases fail: the progress
+    // lines, the summary and the table's message and header.
+    let s = dir.join("study2.toml");
+    std::fs::write(
+        &s,
+        format!(
+            "scene = {:?}\n[axes]\n\"joints.0.drive.om\\u001b[2J\\u202e\\nega\" = [1.0]\nt_end = [0.1]\n[collect]\ntip = {{ output = \"tip_transverse\", stat = \"min\" }}\n",
+            spin_up_scene()
+        ),
+    )
+    .unwrap();
+    let out_dir = dir.join("o2");
+    let (ok, out, err) = ffr(&[
+        "sweep",
+        s.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("1 of 1 cases failed"), "{err}");
+    assert_escaped(&out);
+    assert_escaped(&err.replace('\n', " "));
+    assert!(err.contains("om\\u{1b}[2J\\u{202e}\\nega"), "{err}");
+    let t = read_csv(&out_dir.join("results.csv"));
+    for cell in t[0].iter().chain(&t[1]) {
+        assert_escaped(cell);
+        assert!(!cell.contains('\n'), "{cell:?}");
+    }
+    assert_eq!(t[0][1], "joints.0.drive.om\\u{1b}[2J\\u{202e}\\nega");
+}
+
+/// Issue 36: a reference CSV with a column name twice was read silently
+/// from the first; it is refused at its header, naming the column.
+#[test]
+fn a_reference_with_a_column_named_twice_is_refused() {
+    let dir = temp_dir("dupref");
+    std::fs::write(
+        dir.join("ref.csv"),
+        "t,tip_transverse,tip_axial,tip_transverse\n0,0,0,1\n1,0,0,1\n",
+    )
+    .unwrap();
+    let s = study(
+        &dir,
+        "study.toml",
+        "t_end = [1.0]",
+        "err = { output = \"tip_transverse\", stat = \"max_error\", reference = \"ref.csv\" }",
+    );
+    let e = sweep::read(&s).unwrap_err().to_string();
+    assert!(
+        e.contains("study.toml:5:")
+            && e.contains(
+                "ref.csv:1: column `tip_transverse` appears twice (columns 2 and 4); name each column once"
+            ),
+        "{e}"
+    );
+    // `ffr run --reference` refuses it too.
+    let (ok, _, err) = ffr(&[
+        "run",
+        &spin_up_scene(),
+        "--csv",
+        dir.join("o.csv").to_str().unwrap(),
+        "--reference",
+        dir.join("ref.csv").to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("appears twice"), "{err}");
+    assert!(!dir.join("o.csv").exists());
+}
+
+/// Issue 36: only the columns a study's figures name are stored (others are
+/// only counted), and the numbers of all references are bounded together
+/// (MAX_REFERENCE_VALUES) before they are stored.
+#[test]
+fn references_store_the_columns_named_within_a_bound() {
+    use ffr_cli::reference::{Reference, MAX_REFERENCE_VALUES};
+    let dir = temp_dir("refcols");
+    let p = dir.join("ref.csv");
+    std::fs::write(&p, "t,a,b,c\n0,1,x,3\n0.5,2,y,4\n1,3,z,5\n").unwrap();
+    let r = Reference::read_columns(&p, Some(&["c", "a"]), 0).unwrap();
+    assert_eq!(r.columns, ["a", "c"]);
+    assert_eq!(r.header, ["a", "b", "c"]);
+    assert_eq!(r.t, [0.0, 0.5, 1.0]);
+    assert_eq!(r.values, [vec![1.0, 2.0, 3.0], vec![3.0, 4.0, 5.0]]);
+    assert_eq!(r.numbers(), 9);
+    // The column not read is not checked; read, it is an error at its line.
+    let e = Reference::read(&p).unwrap_err();
+    assert!(
+        e.ends_with("ref.csv:2: `x` in column `b` is not a finite number"),
+        "{e}"
+    );
+    // The bound counts the numbers other references hold.
+    assert!(Reference::read_columns(&p, Some(&["a"]), MAX_REFERENCE_VALUES - 6).is_ok());
+    let e = Reference::read_columns(&p, Some(&["a"]), MAX_REFERENCE_VALUES - 5).unwrap_err();
+    assert!(
+        e.contains("3 rows of t and 1 column(s) read are 6 numbers; with the 16777211 of the other references read that is more than MAX_REFERENCE_VALUES (16777216) together"),
+        "{e}"
+    );
+    // A line longer than MAX_REFERENCE_LINE is refused at its line.
+    let long = format!(
+        "t,a\n0,1\n1,{}\n",
+        "1".repeat(ffr_cli::reference::MAX_REFERENCE_LINE + 10)
+    );
+    std::fs::write(&p, long).unwrap();
+    let e = Reference::read(&p).unwrap_err();
+    assert!(
+        e.contains("ref.csv:3: line 3 is longer than 1048576 bytes (MAX_REFERENCE_LINE)"),
+        "{e}"
+    );
+}
+
+/// Found by tests/fuzz_studies.rs: an integer range whose steps pass i64
+/// (`from + i step` computed in i64) panicked in a debug build and wrapped
+/// in a release build.
+#[test]
+fn integer_ranges_near_the_ends_of_i64_are_exact() {
+    let dir = temp_dir("i64");
+    let s = study(
+        &dir,
+        "study.toml",
+        "\"bodies.beam.elements\" = { from = -9223372036854775808, to = 9223372036854775807, step = 9223372036854775807 }",
+        "tip = { output = \"tip_transverse\", stat = \"min\" }",
+    );
+    let st = sweep::read(&s).unwrap();
+    assert_eq!(
+        st.axes[0].values,
+        [i64::MIN, -1, i64::MAX - 1].map(SceneValue::Int)
+    );
+}
+
+/// The Dask engine's timeouts are positive and at most MAX_TIMEOUT_S (a
+/// year): the watchdog's deadlines are durations built from them.
+#[test]
+fn dask_timeouts_out_of_range_are_refused() {
+    let dir = temp_dir("timeouts");
+    let s = study(&dir, "study.toml", "t_end = [0.5]", COLLECT);
+    let out = dir.join("out");
+    for (flag, value) in [
+        ("--connect-timeout", "1e300"),
+        ("--connect-timeout", "0"),
+        ("--stall-timeout", "-1"),
+        ("--stall-timeout", "inf"),
+    ] {
+        let arg = format!("{flag}={value}");
+        let (ok, _, err) = ffr(&[
+            "sweep",
+            s.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--engine",
+            "dask",
+            "--scheduler",
+            "tcp://127.0.0.1:9",
+            &arg,
+        ]);
+        assert!(
+            !ok && err.contains(&format!(
+                "{flag} must be a positive number of seconds, at most 3.2e7 (MAX_TIMEOUT_S)"
+            )),
+            "{flag} {value}: {err}"
+        );
+        assert!(!out.exists());
+    }
 }

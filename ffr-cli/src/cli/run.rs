@@ -169,7 +169,7 @@ pub fn run_scene(
             }
         }
         let unmatched: Vec<String> = rf
-            .columns
+            .header
             .iter()
             .filter(|c| !matched.contains(c))
             .map(|c| text(c, crate::plot::MAX_LABEL_CHARS))
@@ -213,13 +213,10 @@ fn read_reference(
     path: &Path,
     scene: &ffr::scene::Scene,
 ) -> Result<(crate::reference::Reference, Vec<String>), Box<dyn std::error::Error>> {
-    let rf = crate::reference::Reference::read(path)?;
-    let matched: Vec<String> = rf
-        .columns
-        .iter()
-        .filter(|c| scene.outputs.iter().any(|o| &o.name == *c))
-        .cloned()
-        .collect();
+    // Only the columns named like the scene's outputs are read.
+    let outputs: Vec<&str> = scene.outputs.iter().map(|o| o.name.as_str()).collect();
+    let rf = crate::reference::Reference::read_columns(path, Some(&outputs), 0)?;
+    let matched: Vec<String> = rf.columns.clone();
     if matched.is_empty() {
         let text = |v: Vec<&str>| {
             v.iter()
@@ -230,7 +227,7 @@ fn read_reference(
         return Err(format!(
             "{}: --reference: no column is an output of the scene (its columns: {}; the scene's outputs: {})",
             rf.source,
-            text(rf.columns.iter().map(String::as_str).collect()),
+            text(rf.header.iter().map(String::as_str).collect()),
             text(scene.outputs.iter().map(|o| o.name.as_str()).collect())
         )
         .into());

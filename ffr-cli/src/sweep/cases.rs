@@ -58,17 +58,23 @@ pub fn cell(v: &SceneValue) -> String {
 }
 
 /// `n` values from `a` to `b`, both included (`a + (b − a) i / (n − 1)`,
-/// the last exactly `b`).
+/// the last exactly `b`). Where `b − a` overflows (finite ends more than
+/// `f64::MAX` apart), `a (1 − s) + b s` with `s = i / (n − 1)`, which
+/// stays between the ends.
 pub fn linspace(a: f64, b: f64, n: usize) -> Vec<f64> {
     if n == 1 {
         return vec![a];
     }
+    let width = b - a;
     (0..n)
         .map(|i| {
+            let s = i as f64 / (n - 1) as f64;
             if i + 1 == n {
                 b
+            } else if width.is_finite() {
+                a + width * s
             } else {
-                a + (b - a) * (i as f64 / (n - 1) as f64)
+                a * (1.0 - s) + b * s
             }
         })
         .collect()
@@ -80,18 +86,28 @@ fn rng(seed: u64) -> rand_chacha::ChaCha8Rng {
     rand_chacha::ChaCha8Rng::seed_from_u64(seed)
 }
 
-/// `n` samples uniform in `[a, b)` from `seed`.
-pub fn uniform(a: f64, b: f64, n: usize, seed: u64) -> Vec<f64> {
-    let d = rand_distr::Uniform::new(a, b).expect("the reader checked a < b, both finite");
+/// `n` samples uniform in `[a, b)` from `seed`, or why there are none
+/// (`rand_distr` refuses ends that are not finite, not in order, or whose
+/// width `b − a` overflows).
+pub fn uniform(a: f64, b: f64, n: usize, seed: u64) -> Result<Vec<f64>, String> {
+    let d = rand_distr::Uniform::new(a, b).map_err(|e| match e {
+        rand_distr::uniform::Error::NonFinite => format!(
+            "high − low = {} − ({}) is not a finite number; give ends at most {:e} apart",
+            crate::output::number(b),
+            crate::output::number(a),
+            f64::MAX
+        ),
+        e => format!("{e}"),
+    })?;
     let mut g = rng(seed);
-    (0..n).map(|_| d.sample(&mut g)).collect()
+    Ok((0..n).map(|_| d.sample(&mut g)).collect())
 }
 
 /// `n` samples of a normal distribution from `seed`.
-pub fn normal(mean: f64, sd: f64, n: usize, seed: u64) -> Vec<f64> {
-    let d = rand_distr::Normal::new(mean, sd).expect("the reader checked sd ≥ 0, finite");
+pub fn normal(mean: f64, sd: f64, n: usize, seed: u64) -> Result<Vec<f64>, String> {
+    let d = rand_distr::Normal::new(mean, sd).map_err(|e| format!("{e}"))?;
     let mut g = rng(seed);
-    (0..n).map(|_| d.sample(&mut g)).collect()
+    Ok((0..n).map(|_| d.sample(&mut g)).collect())
 }
 
 #[cfg(test)]
@@ -129,14 +145,27 @@ mod tests {
     }
 
     #[test]
+    fn ranges_whose_width_overflows_stay_finite() {
+        // b − a = 2e308 overflows; the values are the ends and the points
+        // between them (here symmetric about 0).
+        let v = linspace(-1e308, 1e308, 5);
+        assert_eq!(v, [-1e308, -5e307, 0.0, 5e307, 1e308]);
+        let v = linspace(f64::MAX, -f64::MAX, 3);
+        assert_eq!(v, [f64::MAX, 0.0, -f64::MAX]);
+        // Seeded samples over such a range are refused, with the reason.
+        let e = uniform(-1e308, 1e308, 3, 1).unwrap_err();
+        assert!(e.contains("not a finite number"), "{e}");
+    }
+
+    #[test]
     fn samples_depend_on_the_seed_only() {
-        let a = uniform(1.0, 2.0, 50, 7);
-        assert_eq!(a, uniform(1.0, 2.0, 50, 7));
-        assert_ne!(a, uniform(1.0, 2.0, 50, 8));
+        let a = uniform(1.0, 2.0, 50, 7).unwrap();
+        assert_eq!(a, uniform(1.0, 2.0, 50, 7).unwrap());
+        assert_ne!(a, uniform(1.0, 2.0, 50, 8).unwrap());
         assert!(a.iter().all(|x| (1.0..2.0).contains(x)));
-        let g = normal(5.0, 0.5, 2000, 3);
+        let g = normal(5.0, 0.5, 2000, 3).unwrap();
         let mean = g.iter().sum::<f64>() / g.len() as f64;
         assert!((mean - 5.0).abs() < 0.05, "{mean}");
-        assert_eq!(normal(0.0, 0.0, 3, 1), [0.0, 0.0, 0.0]);
+        assert_eq!(normal(0.0, 0.0, 3, 1).unwrap(), [0.0, 0.0, 0.0]);
     }
 }

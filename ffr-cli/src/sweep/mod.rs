@@ -30,6 +30,10 @@ use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 use std::time::Instant;
 
+/// The longest `--connect-timeout` and `--stall-timeout`, in seconds (a
+/// year).
+pub const MAX_TIMEOUT_S: f64 = 3.2e7;
+
 /// Where the cases run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Engine {
@@ -67,6 +71,12 @@ pub struct SweepArgs {
     /// Seconds to wait for the Dask scheduler.
     #[arg(long, default_value_t = 20.0)]
     pub connect_timeout: f64,
+    /// Seconds without progress after which a Dask sweep stops (no case
+    /// finished and none running on a worker: a scheduler without workers,
+    /// or whose workers died); the finished rows are written, the others
+    /// marked failed (--engine dask).
+    #[arg(long, default_value_t = 60.0)]
+    pub stall_timeout: f64,
     /// Run only this case and print its JSON (what a Dask worker runs).
     #[arg(long, hide = true, requires = "json")]
     pub case: Option<usize>,
@@ -84,6 +94,9 @@ pub struct SweepSummary {
     pub files: Vec<PathBuf>,
     /// Wall time (s).
     pub wall_s: f64,
+    /// Why the sweep stopped before every case ran (the Dask engine's
+    /// watchdog, a cluster that failed); those cases are failed rows.
+    pub stopped: Option<String>,
 }
 
 /// Run `ffr sweep`. The table is written whatever the cases gave; the
@@ -101,6 +114,7 @@ pub fn run(args: &SweepArgs) -> Result<SweepSummary, Box<dyn std::error::Error>>
             rows: vec![r],
             files: Vec::new(),
             wall_s: 0.0,
+            stopped: None,
         });
     }
     let out = args
@@ -120,11 +134,21 @@ pub fn run(args: &SweepArgs) -> Result<SweepSummary, Box<dyn std::error::Error>>
                 1 => "local, 1 worker".to_string(),
                 w => format!("local, {w} workers"),
             },
-            Engine::Dask => format!("dask at {}", args.scheduler.as_deref().unwrap_or("?")),
+            Engine::Dask => format!(
+                "dask at {}",
+                ffr::codegen::sanitize::snippet(args.scheduler.as_deref().unwrap_or("?"), 200)
+            ),
         }
     )?;
     for f in &summary.files {
         crate::outln!("wrote {}", f.display())?;
+    }
+    if let Some(why) = &summary.stopped {
+        return Err(format!(
+            "the sweep stopped: {why}; {failed} of {n} cases failed or did not run (status and message columns of {})",
+            summary.files[0].display()
+        )
+        .into());
     }
     if failed > 0 {
         return Err(format!(
@@ -181,8 +205,16 @@ pub fn sweep(
                 .scheduler
                 .clone()
                 .ok_or("--engine dask needs --scheduler ADDRESS (e.g. tcp://10.0.0.1:8786)")?;
-            if !(args.connect_timeout.is_finite() && args.connect_timeout > 0.0) {
-                return Err("--connect-timeout must be a positive number of seconds".into());
+            for (flag, s) in [
+                ("--connect-timeout", args.connect_timeout),
+                ("--stall-timeout", args.stall_timeout),
+            ] {
+                if !(s.is_finite() && s > 0.0 && s <= MAX_TIMEOUT_S) {
+                    return Err(format!(
+                        "{flag} must be a positive number of seconds, at most {MAX_TIMEOUT_S:e} (MAX_TIMEOUT_S)"
+                    )
+                    .into());
+                }
             }
             Some(dask::DaskOptions {
                 scheduler,
@@ -200,6 +232,7 @@ pub fn sweep(
                     })?,
                 },
                 connect_timeout: args.connect_timeout,
+                stall_timeout: args.stall_timeout,
             })
         }
     };
@@ -207,11 +240,11 @@ pub fn sweep(
     let start = Instant::now();
     let reporter = Reporter::new(progress, n);
     let rows = match &dask {
-        None => run::local(study, workers(args), &reporter),
-        Some(opts) => dask::run(study, opts, &reporter),
+        None => run::local(study, workers(args), &reporter).map(|rows| (rows, None)),
+        Some(opts) => dask::run(study, opts, &reporter).map(|r| (r.rows, r.stopped)),
     };
     reporter.finish();
-    let rows = rows?;
+    let (rows, stopped) = rows?;
     let wall_s = start.elapsed().as_secs_f64();
     let table = results::csv(study, &rows)?;
     let svg = plot::svg(study, &rows)?;
@@ -220,5 +253,6 @@ pub fn sweep(
         rows,
         files: vec![csv_path, svg_path],
         wall_s,
+        stopped,
     })
 }

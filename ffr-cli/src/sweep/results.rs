@@ -6,11 +6,17 @@ use super::run::CaseResult;
 use super::study::Study;
 use std::path::Path;
 
-/// The header of `results.csv`: `case`, the axes' keys as written, the
+/// The header of `results.csv`: `case`, the axes' keys as written (control,
+/// bidi and other invisible characters escaped, as in messages), the
 /// figures' names, `cpu_s`, `status`, `message`.
 pub fn header(study: &Study) -> Vec<String> {
     let mut h = vec!["case".to_string()];
-    h.extend(study.axes.iter().map(|a| a.key.clone()));
+    h.extend(
+        study
+            .axes
+            .iter()
+            .map(|a| ffr::codegen::sanitize::snippet(&a.key, usize::MAX)),
+    );
     h.extend(study.figures.iter().map(|f| f.name.clone()));
     h.extend(["cpu_s", "status", "message"].map(String::from));
     h

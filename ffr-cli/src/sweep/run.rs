@@ -53,11 +53,16 @@ pub fn run_case(study: &Study, case: usize) -> CaseResult {
             cpu_s,
             failure: None,
         },
+        // The message quotes user text (keys, values, names): escaped
+        // and cut, in the table and on the terminal alike.
         Err(m) => CaseResult {
             case,
             figures: Vec::new(),
             cpu_s,
-            failure: Some(m),
+            failure: Some(ffr::codegen::sanitize::snippet(
+                &m,
+                super::study::MAX_MESSAGE_CHARS,
+            )),
         },
     }
 }

@@ -34,6 +34,9 @@ pub const MAX_FIGURES: usize = 64;
 pub const MAX_STUDY_BYTES: u64 = 1 << 20;
 /// The longest figure name, in bytes.
 pub const MAX_NAME_LEN: usize = 64;
+/// The most characters of a message about a study (longer ones are cut
+/// with `…`; the user text in them is cut shorter).
+pub const MAX_MESSAGE_CHARS: usize = 2000;
 
 /// Columns of `results.csv` besides the axes and the figures.
 pub const FIXED_COLUMNS: [&str; 4] = ["case", "cpu_s", "status", "message"];
@@ -154,12 +157,53 @@ struct Reader<'a> {
 }
 
 impl Reader<'_> {
+    /// An error at `span`; its message escaped and cut
+    /// ([`MAX_MESSAGE_CHARS`]), whatever user text it quotes.
     fn err(&self, span: Range<usize>, message: impl Into<String>) -> StudyError {
         StudyError {
             location: Some(Location::of(&self.file, self.text, span.start)),
-            message: message.into(),
+            message: ffr::codegen::sanitize::snippet(&message.into(), MAX_MESSAGE_CHARS),
         }
     }
+}
+
+/// How two axis keys' places overlap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Overlap {
+    /// The same place (`joints.0` and `joints.00`).
+    Same,
+    /// The second inside the first (`joints.0.drive`, `joints.0.drive.omega`).
+    Inside,
+    /// The first inside the second.
+    Holds,
+}
+
+/// Whether keys `a` and `b` reach overlapping places: segments compared as
+/// [`SceneText::set`] reads them, an index by its number (`00` is `0`).
+fn overlap(a: &str, b: &str) -> Option<Overlap> {
+    fn segment(s: &str) -> &str {
+        if !s.is_empty() && s.bytes().all(|c| c.is_ascii_digit()) {
+            let t = s.trim_start_matches('0');
+            if t.is_empty() {
+                "0"
+            } else {
+                t
+            }
+        } else {
+            s
+        }
+    }
+    let sa: Vec<&str> = a.split('.').map(segment).collect();
+    let sb: Vec<&str> = b.split('.').map(segment).collect();
+    let common = sa.len().min(sb.len());
+    if sa[..common] != sb[..common] {
+        return None;
+    }
+    Some(match sa.len().cmp(&sb.len()) {
+        std::cmp::Ordering::Equal => Overlap::Same,
+        std::cmp::Ordering::Less => Overlap::Inside,
+        std::cmp::Ordering::Greater => Overlap::Holds,
+    })
 }
 
 fn quoted(s: &str) -> String {
@@ -234,6 +278,28 @@ pub fn read(path: &Path) -> Result<Study, StudyError> {
                 format!("axis `{}` has no values", quoted(key.get_ref())),
             ));
         }
+        // Two axes on one place (the same key, or one inside the other)
+        // would make rows report values the run did not use.
+        if let Some((other, _)) = raw_axes
+            .iter()
+            .take_while(|(k, _)| k.span() != key.span())
+            .find(|(k, _)| overlap(k.get_ref(), key.get_ref()).is_some())
+        {
+            let line = text[..other.span().start].matches('\n').count() + 1;
+            let how = match overlap(other.get_ref(), key.get_ref()) {
+                Some(Overlap::Same) => "sets the same place as",
+                Some(Overlap::Inside) => "sets a value inside the place of",
+                _ => "sets the place holding",
+            };
+            return Err(r.err(
+                key.span(),
+                format!(
+                    "axis `{}` {how} axis `{}` (line {line}): a row would report a value the run did not use; keep one of them",
+                    quoted(key.get_ref()),
+                    quoted(other.get_ref())
+                ),
+            ));
+        }
         // The key must reach a place in the scene (set checks the path).
         let mut probe = scene.clone();
         probe.set(key.get_ref(), values[0].clone()).map_err(|e| {
@@ -277,8 +343,15 @@ pub fn read(path: &Path) -> Result<Study, StudyError> {
             format!("more than {MAX_FIGURES} figures (MAX_FIGURES)"),
         ));
     }
-    let mut references: BTreeMap<PathBuf, Arc<Reference>> = BTreeMap::new();
-    let mut figures = Vec::new();
+    // The figures, checked; their references are read afterwards, each
+    // file once with every column the study's figures take from it.
+    struct Wants {
+        path: PathBuf,
+        column: String,
+        file_span: Range<usize>,
+        column_span: Option<Range<usize>>,
+    }
+    let mut pending: Vec<(Figure, Option<Wants>)> = Vec::new();
     for (name, fig) in &raw_figs {
         let n = name.get_ref();
         let bad_name = n.is_empty()
@@ -318,28 +391,16 @@ pub fn read(path: &Path) -> Result<Study, StudyError> {
                 ),
             )
         })?;
-        let reference = match (stat.needs_reference(), &f.reference, &f.column) {
-            (true, Some(file), column) => {
-                let p = base.join(file.get_ref());
-                let reference = match references.get(&p) {
-                    Some(x) => x.clone(),
-                    None => {
-                        let x = Arc::new(Reference::read(&p).map_err(|e| r.err(file.span(), e))?);
-                        references.insert(p, x.clone());
-                        x
-                    }
-                };
-                let column = column.as_ref().map_or(output.as_str(), |c| c.get_ref().as_str());
-                if reference.column(column).is_none() {
-                    let span = f.column.as_ref().map_or(file.span(), |c| c.span());
-                    return Err(r.err(span, format!(
-                        "the reference has no column `{}` (columns: {})",
-                        quoted(column),
-                        reference.columns.join(", ")
-                    )));
-                }
-                Some((reference, column.to_string()))
-            }
+        let wants = match (stat.needs_reference(), &f.reference, &f.column) {
+            (true, Some(file), column) => Some(Wants {
+                path: base.join(file.get_ref()),
+                column: column
+                    .as_ref()
+                    .map_or(output.as_str(), |c| c.get_ref().as_str())
+                    .to_string(),
+                file_span: file.span(),
+                column_span: column.as_ref().map(|c| c.span()),
+            }),
             (true, None, _) => {
                 return Err(r.err(fig.span(), format!("`{}` needs `reference = \"FILE.csv\"` (relative to the study file; optional `column`, default the output's name)", stat.name())))
             }
@@ -351,13 +412,66 @@ pub fn read(path: &Path) -> Result<Study, StudyError> {
             }
             (false, None, None) => None,
         };
-        figures.push(Figure {
-            name: n.clone(),
-            output: output.clone(),
-            stat,
-            reference,
-        });
+        pending.push((
+            Figure {
+                name: n.clone(),
+                output: output.clone(),
+                stat,
+                reference: None,
+            },
+            wants,
+        ));
     }
+    // Each reference file once, with the columns wanted from it, the
+    // numbers of all of them bounded together (MAX_REFERENCE_VALUES).
+    let mut references: BTreeMap<PathBuf, Arc<Reference>> = BTreeMap::new();
+    let mut held = 0usize;
+    for k in 0..pending.len() {
+        let Some(w) = &pending[k].1 else { continue };
+        let reference = match references.get(&w.path) {
+            Some(x) => x.clone(),
+            None => {
+                let columns: Vec<&str> = pending
+                    .iter()
+                    .filter_map(|(_, o)| o.as_ref())
+                    .filter(|o| o.path == w.path)
+                    .map(|o| o.column.as_str())
+                    .collect();
+                let mut x = Reference::read_columns(&w.path, Some(&columns), held)
+                    .map_err(|e| r.err(w.file_span.clone(), e))?;
+                held += x.numbers();
+                // Every missing column is an error at its figure.
+                if let Some(o) = pending[k..]
+                    .iter()
+                    .filter_map(|(_, o)| o.as_ref())
+                    .find(|o| o.path == w.path && x.column(&o.column).is_none())
+                {
+                    let shown: Vec<String> = x.header.iter().take(20).map(|c| quoted(c)).collect();
+                    let more = x.header.len().saturating_sub(shown.len());
+                    return Err(r.err(
+                        o.column_span.clone().unwrap_or(o.file_span.clone()),
+                        format!(
+                            "the reference has no column `{}` (columns: {}{})",
+                            quoted(&o.column),
+                            shown.join(", "),
+                            if more > 0 {
+                                format!(" and {more} more")
+                            } else {
+                                String::new()
+                            }
+                        ),
+                    ));
+                }
+                x.header = Vec::new();
+                let x = Arc::new(x);
+                references.insert(w.path.clone(), x.clone());
+                x
+            }
+        };
+        let column = w.column.clone();
+        pending[k].0.reference = Some((reference, column));
+    }
+    let figures = pending.into_iter().map(|(f, _)| f).collect();
     Ok(Study {
         path: path.to_path_buf(),
         scene_path,
@@ -408,6 +522,23 @@ fn count(r: &Reader, v: &Spanned<i64>, what: &str) -> Result<usize, StudyError> 
     Ok(n as usize)
 }
 
+/// Sampled or ranged values as scene values, each a finite number (a
+/// normal sample far out in the tail of a huge `sd` is not).
+fn finite(
+    r: &Reader,
+    values: Vec<f64>,
+    what: &str,
+    span: Range<usize>,
+) -> Result<Vec<SceneValue>, StudyError> {
+    if let Some((k, x)) = values.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+        return Err(r.err(
+            span,
+            format!("`{what}`: value {k} is {x}, not a finite number; give smaller numbers"),
+        ));
+    }
+    Ok(values.into_iter().map(SceneValue::Float).collect())
+}
+
 /// The values of one axis.
 fn axis_values(r: &Reader, axis: &Spanned<RawAxis>) -> Result<Vec<SceneValue>, StudyError> {
     let t = match axis.get_ref() {
@@ -437,7 +568,7 @@ fn axis_values(r: &Reader, axis: &Spanned<RawAxis>) -> Result<Vec<SceneValue>, S
                 if n == 1 && a != b {
                     return Err(r.err(steps.span(), "one step needs from = to"));
                 }
-                Ok(super::cases::linspace(a, b, n).into_iter().map(SceneValue::Float).collect())
+                finite(r, super::cases::linspace(a, b, n), "from, to, steps", span.clone())
             }
             (None, Some(step)) => {
                 let int = |v: &Spanned<toml::Value>, what: &str| match v.get_ref() {
@@ -455,7 +586,11 @@ fn axis_values(r: &Reader, axis: &Spanned<RawAxis>) -> Result<Vec<SceneValue>, S
                 if n > MAX_CASES as u128 {
                     return Err(r.err(step.span(), format!("the range has more than {MAX_CASES} values (MAX_CASES)")));
                 }
-                Ok((0..n as i64).map(|i| SceneValue::Int(a + i * s)).collect())
+                // In i128: `i s` may pass i64 though every value, at most
+                // `to`, fits.
+                Ok((0..n as i128)
+                    .map(|i| SceneValue::Int((a as i128 + i * s as i128) as i64))
+                    .collect())
             }
             _ => Err(r.err(span, "a range needs exactly one of `steps` (numbers, ends included) and `step` (integers)")),
         };
@@ -478,28 +613,32 @@ fn axis_values(r: &Reader, axis: &Spanned<RawAxis>) -> Result<Vec<SceneValue>, S
                 _ => Err(r.err(v.span(), format!("`{what}` takes two finite numbers"))),
             }
         };
-        let values =
+        let (values, what, at) =
             match (&t.uniform, &t.normal) {
                 (Some(u), None) => {
                     let (a, b) = pair(u, "uniform = [low, high]")?;
                     if !(a < b) {
                         return Err(r.err(u.span(), "`uniform = [low, high]` needs low < high"));
                     }
-                    super::cases::uniform(a, b, n, s as u64)
+                    let v = super::cases::uniform(a, b, n, s as u64)
+                        .map_err(|e| r.err(u.span(), format!("`uniform = [low, high]`: {e}")))?;
+                    (v, "uniform = [low, high]", u.span())
                 }
                 (None, Some(g)) => {
                     let (m, sd) = pair(g, "normal = [mean, sd]")?;
                     if !(sd >= 0.0) {
                         return Err(r.err(g.span(), "`normal = [mean, sd]` needs sd ≥ 0"));
                     }
-                    super::cases::normal(m, sd, n, s as u64)
+                    let v = super::cases::normal(m, sd, n, s as u64)
+                        .map_err(|e| r.err(g.span(), format!("`normal = [mean, sd]`: {e}")))?;
+                    (v, "normal = [mean, sd]", g.span())
                 }
                 _ => return Err(r.err(
                     span,
                     "samples need exactly one of `uniform = [low, high]` and `normal = [mean, sd]`",
                 )),
             };
-        return Ok(values.into_iter().map(SceneValue::Float).collect());
+        return finite(r, values, what, at);
     }
     Err(r.err(
         span,
