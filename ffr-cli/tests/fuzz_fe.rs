@@ -279,7 +279,8 @@ fn mutate(rng: &mut TestRng, text: &str, which: usize) -> String {
                 let at = t
                     .find("modes = 2\n")
                     .map_or(t.len(), |i| i + "modes = 2\n".len());
-                t.insert_str(at, *pick(rng, KEYS));
+                let key: &&str = pick(rng, KEYS);
+                t.insert_str(at, key);
             }
             5 if which >= 2 => {
                 let banner = pick(
@@ -302,7 +303,8 @@ fn mutate(rng: &mut TestRng, text: &str, which: usize) -> String {
                 while !t.is_char_boundary(at) {
                     at -= 1;
                 }
-                t.insert_str(at, *pick(rng, GARBAGE));
+                let junk: &&str = pick(rng, GARBAGE);
+                t.insert_str(at, junk);
             }
             7 if which >= 2 => {
                 // An entry added out of place or repeated.

@@ -113,7 +113,7 @@ pub fn linear_json(m: &LinearModel) -> Result<Value, Box<dyn Error>> {
 const MTX_HEADER: &str = "%%MatrixMarket matrix coordinate real general\n";
 
 /// A matrix in Matrix Market coordinate format (`real general`, ffr's mark
-/// line [`MTX_MARK`] after the header, 1-based,
+/// line `MTX_MARK` after the header, 1-based,
 /// the non-zero entries in column-major order, numbers in shortest
 /// round-trip form).
 pub fn matrix_market(m: &DMatrix<f64>, comment: &str) -> String {
