@@ -176,7 +176,7 @@ impl Reference {
         already: usize,
     ) -> Result<Reference, String> {
         use std::io::Seek;
-        let file = ffr::codegen::sanitize::snippet(&path.display().to_string(), usize::MAX);
+        let file = ffr_spec::text::path_text(&path.display().to_string());
         let at = |m: String| format!("{file}: {m}");
         let meta = std::fs::metadata(path).map_err(|e| at(e.to_string()))?;
         if meta.is_dir() {
@@ -340,8 +340,23 @@ impl Reference {
 
     /// `max_k |y(t_k) − y_ref(t_k)| / max_k |y_ref(t_k)|` over the run's
     /// sample times `t_k ≤ t_end` (the reference interpolated linearly), and
-    /// the largest absolute difference.
+    /// the largest absolute difference; `None` when a time is outside the
+    /// reference. The relative error of a reference that is zero throughout
+    /// is `None` ([`Reference::abs_error`] still has the absolute one).
     pub fn error(&self, column: &str, t: &[f64], y: &[f64], t_end: f64) -> Option<(f64, f64)> {
+        let (rel, abs) = self.abs_error(column, t, y, t_end)?;
+        Some((rel?, abs))
+    }
+
+    /// [`Reference::error`] with the relative error `None` for a reference
+    /// that is zero throughout, where only the absolute error is defined.
+    pub fn abs_error(
+        &self,
+        column: &str,
+        t: &[f64],
+        y: &[f64],
+        t_end: f64,
+    ) -> Option<(Option<f64>, f64)> {
         let r = self.column(column)?;
         let (mut diff, mut scale) = (0.0f64, 0.0f64);
         for (&tk, &yk) in t.iter().zip(y) {
@@ -352,7 +367,7 @@ impl Reference {
             diff = diff.max((yk - yr).abs());
             scale = scale.max(yr.abs());
         }
-        (scale > 0.0).then(|| (diff / scale, diff))
+        Some(((scale > 0.0).then(|| diff / scale), diff))
     }
 
     /// `max_k |y(t_k) − y_ref(t_k)|` over the run's sample times `t_k` inside
@@ -379,5 +394,29 @@ impl Reference {
             .zip(r)
             .map(|(a, b)| (*a, *b))
             .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Reference;
+
+    /// A reference column that is zero throughout has an absolute error
+    /// and no relative one (the absolute error failed with it before).
+    #[test]
+    fn a_zero_reference_has_an_absolute_error_only() {
+        let r = Reference {
+            source: "test".into(),
+            columns: vec!["zero".into(), "ramp".into()],
+            header: vec!["zero".into(), "ramp".into()],
+            t: vec![0.0, 1.0, 2.0],
+            values: vec![vec![0.0; 3], vec![0.0, 1.0, 2.0]],
+        };
+        let (t, y) = ([0.0, 0.5, 1.0], [0.0, 0.25, -0.5]);
+        assert_eq!(r.abs_error("zero", &t, &y, 1.0), Some((None, 0.5)));
+        assert_eq!(r.error("zero", &t, &y, 1.0), None);
+        // 0.5 − 0.25 at t = 0.5 and 1 − (−0.5) at t = 1, over max |ramp| = 1.
+        assert_eq!(r.error("ramp", &t, &y, 1.0), Some((1.5, 1.5)));
+        assert_eq!(r.abs_error("ramp", &[5.0], &[0.0], 5.0), None, "outside");
     }
 }

@@ -242,7 +242,7 @@ def test_a_key_set_again_replaces_its_value():
     assert [k for k, _ in s.overrides] == ["t_end", "joints.00.drive.omega"]
     with pytest.raises(ffr.SceneError) as e:
         s.set("dt", 0.0)
-    assert str(e.value).endswith("(with t_end = 4.0, joints.00.drive.omega = 3.0, dt = 0.0)"), str(e.value)
+    assert str(e.value).endswith("(with t_end = 4, joints.00.drive.omega = 3, dt = 0)"), str(e.value)
 
 
 def test_distinct_keys_are_bounded_with_the_bound_named():

@@ -379,7 +379,7 @@ impl SceneText {
                 .set
                 .iter()
                 .take(MAX_LISTED)
-                .map(|(k, v)| format!("{} = {}", shorten(k), shorten(&v.to_string())))
+                .map(|(k, v)| format!("{} = {}", shorten(k), shorten(&shown(v))))
                 .collect();
             if self.set.len() > MAX_LISTED {
                 list.push(format!("and {} more", self.set.len() - MAX_LISTED));
@@ -387,6 +387,30 @@ impl SceneText {
             e.message = format!("{} (with {})", e.message, list.join(", "));
         }
         e
+    }
+}
+
+/// A value as a message shows it: numbers in short form
+/// ([`crate::runtime::spec::text::Num`]: `1.7e9`, not `1700000000.0`; 1e308
+/// not 309 digits), the rest as TOML writes it.
+fn shown(v: &SceneValue) -> String {
+    match v {
+        SceneValue::Float(x) => crate::runtime::spec::text::Num(*x).to_string(),
+        SceneValue::Array(a) => {
+            let items: Vec<String> = a.iter().take(MAX_NAMES).map(shown).collect();
+            let more = if a.len() > MAX_NAMES { ", …" } else { "" };
+            format!("[{}{more}]", items.join(", "))
+        }
+        SceneValue::Table(t) => {
+            let items: Vec<String> = t
+                .iter()
+                .take(MAX_NAMES)
+                .map(|(k, v)| format!("{k} = {}", shown(v)))
+                .collect();
+            let more = if t.len() > MAX_NAMES { ", …" } else { "" };
+            format!("{{ {}{more} }}", items.join(", "))
+        }
+        other => other.to_string(),
     }
 }
 

@@ -410,10 +410,10 @@ pub fn campbell(args: &CampbellArgs) -> Result<Campbell, Box<dyn Error>> {
             crate::outln!("Ω = {} rad/s", output::number(*w))?;
             for (k, m) in ms.iter().enumerate() {
                 crate::outln!(
-                    "{:>5} {:>20.10} rad/s {:>16.8} Hz  ζ = {:>10.3e}  {}",
+                    "{:>5} {:>20} rad/s {:>16} Hz  ζ = {:>10.3e}  {}",
                     k + 1,
-                    m.omega,
-                    m.hz,
+                    fixed(m.omega, 10),
+                    fixed(m.hz, 8),
                     m.zeta,
                     m.label
                 )?;
@@ -421,6 +421,17 @@ pub fn campbell(args: &CampbellArgs) -> Result<Campbell, Box<dyn Error>> {
         }
     }
     Ok(c)
+}
+
+/// `x` with `digits` decimals below 1e6 in magnitude, else in exponent form
+/// with as many significant digits (a frequency of 1e12 rad/s is not 23
+/// characters of `1000000000000.0000000000`).
+fn fixed(x: f64, digits: usize) -> String {
+    if x.abs() < 1e6 || !x.is_finite() {
+        format!("{x:.digits$}")
+    } else {
+        format!("{x:.digits$e}")
+    }
 }
 
 /// The Campbell diagram as an SVG: each mode's frequency (Hz) against the

@@ -100,13 +100,19 @@ impl Figure {
             Stat::MaxError | Stat::MaxAbsError => {
                 let (r, column) = self.reference.as_ref().ok_or("no reference")?;
                 let t_end = run.t.last().copied().unwrap_or(0.0);
-                let (rel, abs) = r.error(column, &run.t, y, t_end).ok_or_else(|| {
+                let (rel, abs) = r.abs_error(column, &run.t, y, t_end).ok_or_else(|| {
                     format!(
-                        "the run's times (0 to {t_end} s) are outside the reference's, or its column `{column}` is zero throughout"
+                        "the run's times (0 to {} s) are outside the reference's",
+                        ffr::runtime::spec::text::Num(t_end)
                     )
                 })?;
                 if self.stat == Stat::MaxError {
-                    rel
+                    rel.ok_or_else(|| {
+                        format!(
+                            "the reference's column `{}` is zero throughout: its relative error is not defined (use max_abs_error)",
+                            ffr::runtime::spec::text::quoted(column)
+                        )
+                    })?
                 } else {
                     abs
                 }
