@@ -201,3 +201,19 @@ fn a_value_too_large_for_f64_is_not_a_step_to_shorten() {
         "{err}"
     );
 }
+
+/// A run that fails reports the iteration matrices it took up to its last
+/// step (it said "0 iteration matrices" after hundreds of steps): the
+/// two-link arm with a hub of no inertia diverges after some steps.
+#[test]
+fn a_failed_run_counts_its_iteration_matrices() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let text = std::fs::read_to_string(dir.join("two_link_arm.toml")).unwrap();
+    assert!(text.contains("\ninertia = 0.01\n"));
+    let text = text.replacen("\ninertia = 0.01\n", "\ninertia = 1e-300\n", 1);
+    let scene = from_str(&text, "arm.toml", &dir, &DefaultKernels).unwrap();
+    let r = run(&scene).unwrap();
+    assert!(r.failed.is_some(), "the run should fail");
+    assert!(r.steps > 1, "{}", r.steps);
+    assert!(r.jacobians >= 1, "{} iteration matrices", r.jacobians);
+}

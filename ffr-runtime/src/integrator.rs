@@ -120,6 +120,9 @@ pub struct StepView<'a, 's, B: Body> {
     pub state: &'a State,
     /// Newton iterations of the last step (0 for explicit / initial).
     pub iterations: usize,
+    /// Iteration matrices factored so far (all steps up to this one), so
+    /// that a run that fails later can say how many it took.
+    pub jacobians: usize,
     /// The assembled equations (energies, momenta, marker positions).
     pub assembly: &'a mut Assembly<'s, B>,
 }
@@ -306,6 +309,7 @@ impl<B: Body> System<B> {
             step: 0,
             state: &state,
             iterations: 0,
+            jacobians: 0,
             assembly: &mut asm,
         };
         if observer(&mut view).is_break() {
@@ -336,6 +340,7 @@ impl<B: Body> System<B> {
                 step: step + 1,
                 state: &state,
                 iterations: iters,
+                jacobians: summary.jacobians,
                 assembly: &mut asm,
             };
             if observer(&mut view).is_break() {

@@ -142,12 +142,14 @@ fn run_observed(
     let (mut work, mut dissipated) = (0.0, 0.0);
     let mut last_power: Option<(f64, crate::runtime::Power)> = None;
     let start = std::time::Instant::now();
-    // Steps and Newton iterations so far (a failed run reports how far it got).
-    let (mut steps, mut iterations) = (0, 0);
+    // Steps, Newton iterations and iteration matrices so far (a failed run
+    // reports how far it got).
+    let (mut steps, mut iterations, mut jacobians) = (0, 0, 0);
     let mut interrupted = false;
     let res = sys.simulate(scene.t_end, scene.dt, &scene.integrator, |v| {
         steps = v.step;
         iterations += v.iterations;
+        jacobians = v.jacobians;
         let (q, qd) = (&v.state.q, &v.state.v);
         out.t.push(v.state.t);
         if wants_power {
@@ -195,6 +197,7 @@ fn run_observed(
             | crate::runtime::Error::StepFailed { .. } => {
                 out.steps = steps;
                 out.newton_iterations = iterations;
+                out.jacobians = jacobians;
                 out.failed = Some(e.to_string());
             }
             other => return Err(other),
