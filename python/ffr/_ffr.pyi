@@ -246,4 +246,5 @@ def campbell(
     """A Campbell diagram, as ``ffr campbell --json`` (and the joint,
     1-based). ``speeds`` a sequence or a 1-d array (a 0-d array or a bare
     number raises TypeError). Ctrl-C stops it between Newton iterations
-    (KeyboardInterrupt)."""
+    (KeyboardInterrupt). Each of ``warnings`` is also issued once as a
+    ``RuntimeWarning``."""

@@ -1144,7 +1144,8 @@ fn linearize<'py>(
 /// revolute joint (`joint`, 1-based; default the first) turns at each of
 /// `speeds` (rad/s), as `ffr campbell --json` gives it: `speeds`, `joint`,
 /// `modes` (per speed, a list of `{omega, hz, zeta, label}`) and
-/// `warnings` (a flexible body turning without geometric stiffening).
+/// `warnings` (a flexible body turning without geometric stiffening, a
+/// speed with growing modes), each also issued once as a `RuntimeWarning`.
 #[pyfunction]
 #[pyo3(signature = (scene, speeds, joint = None, count = 10))]
 fn campbell<'py>(
@@ -1198,6 +1199,7 @@ fn campbell<'py>(
     }
     out.set_item("modes", modes)?;
     out.set_item("warnings", c.warnings.clone())?;
+    warn_all(py, &c.warnings)?;
     Ok(out)
 }
 

@@ -98,6 +98,17 @@ def test_campbell(ffr_bin):
     assert_same(r, js)
 
 
+def test_campbell_warnings_are_runtime_warnings():
+    # A beam turning without stiffening: the warning in the result is also a
+    # RuntimeWarning (it was only in the result before).
+    scene = ffr.Scene.load(SCENES / "spin_up.toml")
+    scene.set("bodies.beam.stiffening", False)
+    with pytest.warns(RuntimeWarning, match="stiffening") as caught:
+        r = ffr.campbell(scene, [0.0, 1.0], count=2)
+    assert r["warnings"]
+    assert [str(w.message) for w in caught if w.category is RuntimeWarning] == r["warnings"]
+
+
 def test_static(ffr_bin):
     path = SCENES / "pendulum.toml"
     js = json.loads(cli(ffr_bin, "static", path, "--json"))
