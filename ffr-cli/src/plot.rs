@@ -17,6 +17,27 @@ pub fn plot_text(s: &str, max_chars: usize) -> String {
     ffr_codegen::sanitize::snippet(s, max_chars)
 }
 
+/// The largest magnitude a plot's axis reaches: values beyond it are drawn
+/// at the edge. (plotters' tick computation did not end on an axis near
+/// `f64::MAX`: `ffr run` of a body started at 1.8e308 m/s hung in the plot.)
+pub const MAX_AXIS: f64 = 1e300;
+
+/// An axis from `lo` to `hi` with `frac` of its span added on each side,
+/// never empty, its ends finite and within [`MAX_AXIS`] (non-finite ends
+/// become 0), computed without overflow.
+pub fn axis(lo: f64, hi: f64, frac: f64) -> std::ops::Range<f64> {
+    let c = |x: f64| {
+        if x.is_finite() {
+            x.clamp(-MAX_AXIS, MAX_AXIS)
+        } else {
+            0.0
+        }
+    };
+    let (lo, hi) = (c(lo).min(c(hi)), c(lo).max(c(hi)));
+    let pad = (frac * hi - frac * lo).max(1e-9 * (1.0 + lo.abs().max(hi.abs())));
+    (lo - pad)..(hi + pad)
+}
+
 /// Lines `series` (name, values) against `t`, as an SVG document. The title,
 /// label and names are shown through [`plot_text`].
 pub fn time_svg(
@@ -67,7 +88,6 @@ pub fn time_svg_with(
             (a.min(v), b.max(v))
         });
         let (lo, hi) = if lo.is_finite() { (lo, hi) } else { (0.0, 1.0) };
-        let pad = 0.05 * (hi - lo).max(1e-9 * (1.0 + hi.abs()));
         let root = SVGBackend::with_string(&mut svg, (900, 500)).into_drawing_area();
         root.fill(&WHITE)?;
         let mut chart = ChartBuilder::on(&root)
@@ -75,7 +95,7 @@ pub fn time_svg_with(
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
-            .build_cartesian_2d(t_min..t_max, (lo - pad)..(hi + pad))?;
+            .build_cartesian_2d(axis(t_min, t_max, 0.0), axis(lo, hi, 0.05))?;
         chart
             .configure_mesh()
             .x_desc("t (s)")
@@ -215,5 +235,32 @@ mod tests {
         let mut w = v[..100].to_vec();
         w[3] = f64::NAN;
         assert_eq!(envelope(&t[..100], &w, 500).len(), 99);
+    }
+}
+
+#[cfg(test)]
+mod huge_values {
+    use super::*;
+
+    /// Values near `f64::MAX` (finite, their span not) are plotted in
+    /// bounded time: the plot hung in plotters' tick computation before.
+    #[test]
+    fn huge_values_are_plotted() {
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let t = [0.0, 0.5, 1.0];
+            let big = [-1.7e308, 0.0, 1.7976931348623157e308];
+            let odd = [f64::NAN, f64::INFINITY, 1e300];
+            let svg = time_svg("huge", "m", &t, &[("big", &big[..]), ("odd", &odd[..])]);
+            tx.send(svg.map(|s| s.len()).map_err(|e| e.to_string()))
+                .unwrap();
+        });
+        let r = rx
+            .recv_timeout(std::time::Duration::from_secs(60))
+            .expect("the plot should take well under a minute");
+        assert!(r.unwrap() > 1000);
+        let a = axis(-1.7e308, 1.7e308, 0.05);
+        assert!(a.start.is_finite() && a.end.is_finite() && (a.end - a.start).is_finite());
+        assert!(axis(2.0, 2.0, 0.05).start < 2.0);
     }
 }

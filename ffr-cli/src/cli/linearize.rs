@@ -473,7 +473,10 @@ pub fn campbell_svg(c: &Campbell, title: &str) -> Result<String, Box<dyn Error>>
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
-            .build_cartesian_2d(x_min..x_max, 0.0..f_max)?;
+            .build_cartesian_2d(
+                crate::plot::axis(x_min, x_max, 0.0),
+                crate::plot::axis(0.0, f_max, 0.0),
+            )?;
         chart
             .configure_mesh()
             .x_desc("rotor speed (rpm)")

@@ -79,8 +79,6 @@ pub fn svg(study: &Study, rows: &[CaseResult]) -> Result<String, Box<dyn std::er
             if !x0.is_finite() {
                 (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
             }
-            let px = 0.02 * (x1 - x0).max(1e-9 * (1.0 + x1.abs()));
-            let py = 0.05 * (y1 - y0).max(1e-9 * (1.0 + y1.abs()));
             let title = plot_text(
                 &format!("{}: {} of {}", fig.name, fig.stat.name(), fig.output),
                 MAX_TITLE_CHARS,
@@ -90,7 +88,10 @@ pub fn svg(study: &Study, rows: &[CaseResult]) -> Result<String, Box<dyn std::er
                 .margin(10)
                 .x_label_area_size(36)
                 .y_label_area_size(80)
-                .build_cartesian_2d((x0 - px)..(x1 + px), (y0 - py)..(y1 + py))?;
+                .build_cartesian_2d(
+                    crate::plot::axis(x0, x1, 0.02),
+                    crate::plot::axis(y0, y1, 0.05),
+                )?;
             chart
                 .configure_mesh()
                 .x_desc(plot_text(&x_desc, MAX_LABEL_CHARS))
