@@ -22,6 +22,13 @@ pub fn plot_text(s: &str, max_chars: usize) -> String {
 /// `f64::MAX`: `ffr run` of a body started at 1.8e308 m/s hung in the plot.)
 pub const MAX_AXIS: f64 = 1e300;
 
+/// Whether a value is drawn: finite and within [`MAX_AXIS`] (a value
+/// beyond is left out of the plot, as a non-finite one is; plotters'
+/// pixel mapping overflows on it).
+pub fn plottable(v: f64) -> bool {
+    v.is_finite() && v.abs() <= MAX_AXIS
+}
+
 /// An axis from `lo` to `hi` with `frac` of its span added on each side,
 /// never empty, its ends finite and within [`MAX_AXIS`] (non-finite ends
 /// become 0), computed without overflow.
@@ -83,7 +90,7 @@ pub fn time_svg_with(
             .iter()
             .flat_map(|(_, v)| v.iter().copied())
             .chain(overlays.iter().flat_map(|(_, p)| p.iter().map(|q| q.1)))
-            .filter(|v| v.is_finite());
+            .filter(|v| plottable(*v));
         let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
         });
@@ -138,7 +145,7 @@ fn envelope(t: &[f64], v: &[f64], buckets: usize) -> Vec<(f64, f64)> {
     let finite = || {
         t.iter()
             .zip(v.iter())
-            .filter(|(_, y)| y.is_finite())
+            .filter(|(_, y)| plottable(**y))
             .map(|(a, b)| (*a, *b))
     };
     let n = t.len().min(v.len());
@@ -152,7 +159,7 @@ fn envelope(t: &[f64], v: &[f64], buckets: usize) -> Vec<(f64, f64)> {
         let mut max: Option<(f64, f64)> = None;
         for i in lo..hi {
             let p = (t[i], v[i]);
-            if !p.1.is_finite() {
+            if !plottable(p.1) {
                 continue;
             }
             if min.is_none_or(|m| p.1 < m.1) {

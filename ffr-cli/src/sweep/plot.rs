@@ -58,6 +58,9 @@ pub fn svg(study: &Study, rows: &[CaseResult]) -> Result<String, Box<dyn std::er
                 };
                 let rest = idx.get(1..).unwrap_or_default().to_vec();
                 let y = r.figures[k];
+                if !(crate::plot::plottable(x) && crate::plot::plottable(y)) {
+                    continue;
+                }
                 match lines.iter_mut().find(|(key, _)| *key == rest) {
                     Some((_, pts)) => pts.push((x, y)),
                     None => lines.push((rest, vec![(x, y)])),
