@@ -217,3 +217,25 @@ fn a_failed_run_counts_its_iteration_matrices() {
     assert!(r.steps > 1, "{}", r.steps);
     assert!(r.jacobians >= 1, "{} iteration matrices", r.jacobians);
 }
+
+/// A body started at 1.8e308 m/s has an infinite kinetic energy: the
+/// initial state is refused by the validity check (issue 36, found by the
+/// Python fuzzer: the run went on until the energy monitor reported "NaN J
+/// gained from nowhere", and `ffr run` then hung in its plot's axis).
+#[test]
+fn an_initial_state_of_infinite_energy_is_refused() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let text = std::fs::read_to_string(dir.join("free_floating.toml")).unwrap();
+    assert!(text.contains("velocity = [0.5, -1.0]"));
+    let text = text.replacen(
+        "velocity = [0.5, -1.0]",
+        "velocity = [1.7976931348623157e308, -1.0]",
+        1,
+    );
+    let scene = from_str(&text, "ff.toml", &dir, &DefaultKernels).unwrap();
+    let e = run(&scene).expect_err("refused").to_string();
+    assert!(
+        e.contains("the initial state is not valid: the kinetic energy is inf"),
+        "{e}"
+    );
+}

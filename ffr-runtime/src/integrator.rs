@@ -283,6 +283,14 @@ impl<B: Body> System<B> {
         let mut w = Work::new(&asm);
         let mut state = initial_state(&mut asm, &mut w.lin, 0.0)?;
         w.acc.copy_from_slice(&state.a);
+        // The initial state passes the validity check every later state
+        // passes (a body started at 1.8e308 m/s has an infinite energy: it
+        // ran until the energy monitor reported NaN J "gained from nowhere").
+        if self.monitor.enabled {
+            crate::monitor::check_state(self, &state.q, &state.v).map_err(|why| {
+                Error::InvalidInput(format!("the initial state is not valid: {why}"))
+            })?;
+        }
         let mut watch = if self.monitor.enabled {
             Some(crate::monitor::Watch::new(
                 &mut asm,
