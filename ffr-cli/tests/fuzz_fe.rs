@@ -22,46 +22,15 @@
 //! seed; more with `FFR_FUZZ_CASES=20000 [FFR_FUZZ_SEED=7] cargo test
 //! --release -p ffr-cli --test fuzz_fe -- --nocapture`.
 
+mod live_heap;
+
 use ffr::scene;
 use proptest::prelude::RngExt;
 use proptest::test_runner::{RngAlgorithm, TestRng};
-use std::alloc::{GlobalAlloc, Layout, System as Sys};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 const DEFAULT_CASES: usize = 300;
 /// Heap that may be live at once while a case runs.
 const MAX_LIVE_BYTES: usize = 256 << 20;
-
-struct Counting;
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        let p = Sys.alloc(l);
-        if !p.is_null() {
-            let now = LIVE.fetch_add(l.size(), Ordering::Relaxed) + l.size();
-            PEAK.fetch_max(now, Ordering::Relaxed);
-        }
-        p
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        LIVE.fetch_sub(l.size(), Ordering::Relaxed);
-        Sys.dealloc(p, l)
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        let q = Sys.realloc(p, l, n);
-        if !q.is_null() {
-            LIVE.fetch_sub(l.size(), Ordering::Relaxed);
-            let now = LIVE.fetch_add(n, Ordering::Relaxed) + n;
-            PEAK.fetch_max(now, Ordering::Relaxed);
-        }
-        q
-    }
-}
-
-#[global_allocator]
-static A: Counting = Counting;
 
 /// The bipyramid: a triangle in the plane x = 0.5 and two apexes.
 const NODES: [[f64; 3]; 5] = [
@@ -387,11 +356,10 @@ fn mutated_fe_files_and_keys_are_refused_or_run() {
         let _ = std::fs::remove_dir_all(&dir);
         let d = dir.clone();
         let t = texts.clone();
-        PEAK.store(LIVE.load(Ordering::Relaxed), Ordering::Relaxed);
-        let start_live = LIVE.load(Ordering::Relaxed);
+        let heap = live_heap::mark();
         let outcome = std::thread::spawn(move || case(&d, &t))
             .join()
-            .map(|r| (r, PEAK.load(Ordering::Relaxed).saturating_sub(start_live)));
+            .map(|r| (r, heap.peak()));
         let (r, peak) = match outcome {
             Ok(x) => x,
             Err(_) => panic!(

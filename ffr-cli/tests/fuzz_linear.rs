@@ -20,49 +20,18 @@
 //! fixed seed; more with `FFR_FUZZ_CASES=10000 [FFR_FUZZ_SEED=7] cargo
 //! test --release --test fuzz_linear -- --nocapture`.
 
+mod live_heap;
+
 use ffr::runtime::linear::eigenvalues;
 use ffr::scene::linear::{campbell, default_inputs, linearize_scene, At};
 use ffr::scene::{DefaultKernels, SceneSpec};
 use proptest::prelude::RngExt;
 use proptest::test_runner::{RngAlgorithm, TestRng};
-use std::alloc::{GlobalAlloc, Layout, System as Sys};
 use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 const DEFAULT_CASES: usize = 300;
 /// Heap that may be live at once while a case runs.
 const MAX_LIVE_BYTES: usize = 512 << 20;
-
-struct Counting;
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        let p = Sys.alloc(l);
-        if !p.is_null() {
-            let now = LIVE.fetch_add(l.size(), Ordering::Relaxed) + l.size();
-            PEAK.fetch_max(now, Ordering::Relaxed);
-        }
-        p
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        LIVE.fetch_sub(l.size(), Ordering::Relaxed);
-        Sys.dealloc(p, l)
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        let q = Sys.realloc(p, l, n);
-        if !q.is_null() {
-            LIVE.fetch_sub(l.size(), Ordering::Relaxed);
-            let now = LIVE.fetch_add(n, Ordering::Relaxed) + n;
-            PEAK.fetch_max(now, Ordering::Relaxed);
-        }
-        q
-    }
-}
-
-#[global_allocator]
-static A: Counting = Counting;
 
 /// The shipped scenes fuzzed (the 5-MW blade, whose dense model takes
 /// seconds in a debug build, only in longer runs).
@@ -238,12 +207,11 @@ fn fuzz_linear() {
         let mut sub = [0u8; 32];
         sub[..8].copy_from_slice(&rng.random_range(0..u64::MAX).to_le_bytes());
         let mut case_rng = TestRng::from_seed(RngAlgorithm::ChaCha, &sub);
-        PEAK.store(LIVE.load(Ordering::Relaxed), Ordering::Relaxed);
-        let start_live = LIVE.load(Ordering::Relaxed);
+        let heap = live_heap::mark();
         let t0 = std::time::Instant::now();
         let outcome = std::thread::spawn(move || case(&mut case_rng, &spec)).join();
         let secs = t0.elapsed().as_secs_f64();
-        let peak = PEAK.load(Ordering::Relaxed).saturating_sub(start_live);
+        let peak = heap.peak();
         match outcome {
             Err(p) => {
                 let msg = p
@@ -297,8 +265,7 @@ fn a_linear_model_too_large_to_hold_densely_is_refused_before_allocation() {
         }
     }
     let spec = ffr::codegen::scene::resolve_str(&text, "big.toml", Path::new(".")).unwrap();
-    PEAK.store(LIVE.load(Ordering::Relaxed), Ordering::Relaxed);
-    let start_live = LIVE.load(Ordering::Relaxed);
+    let heap = live_heap::mark();
     let e = linearize_scene(&spec, &DefaultKernels, At::Time(0.0), None, None)
         .unwrap_err()
         .to_string();
@@ -312,6 +279,6 @@ fn a_linear_model_too_large_to_hold_densely_is_refused_before_allocation() {
     assert!(e.contains("MAX_DENSE_UNKNOWNS"), "{e}");
     // Building the scene costs what `ffr run` costs; a dense matrix of
     // the 6000-odd unknowns alone would be 300 MB.
-    let peak = PEAK.load(Ordering::Relaxed).saturating_sub(start_live);
+    let peak = heap.peak();
     assert!(peak < 100 << 20, "{peak} bytes live at once");
 }

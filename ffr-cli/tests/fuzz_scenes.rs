@@ -24,49 +24,18 @@
 //! --release --test fuzz_scenes -- --nocapture` (the case in progress is
 //! kept in `target/tmp/fuzz_scene_current.toml`).
 
+mod live_heap;
+
 use ffr::scene::{self, DefaultKernels};
 use proptest::prelude::RngExt;
 use proptest::test_runner::{RngAlgorithm, TestRng};
-use std::alloc::{GlobalAlloc, Layout, System as Sys};
 use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 const DEFAULT_CASES: usize = 400;
 /// Heap that may be live at once while a case runs.
 const MAX_LIVE_BYTES: usize = 512 << 20;
 /// Steps a case may take.
 const MAX_STEPS: f64 = 200.0;
-
-struct Counting;
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        let p = Sys.alloc(l);
-        if !p.is_null() {
-            let now = LIVE.fetch_add(l.size(), Ordering::Relaxed) + l.size();
-            PEAK.fetch_max(now, Ordering::Relaxed);
-        }
-        p
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        LIVE.fetch_sub(l.size(), Ordering::Relaxed);
-        Sys.dealloc(p, l)
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        let q = Sys.realloc(p, l, n);
-        if !q.is_null() {
-            LIVE.fetch_sub(l.size(), Ordering::Relaxed);
-            let now = LIVE.fetch_add(n, Ordering::Relaxed) + n;
-            PEAK.fetch_max(now, Ordering::Relaxed);
-        }
-        q
-    }
-}
-
-#[global_allocator]
-static A: Counting = Counting;
 
 const SCENES: [&str; 9] = [
     "spin_up.toml",
@@ -404,12 +373,11 @@ fn fuzz_scenes() {
         }
         let base = dir.clone();
         let t2 = text.clone();
-        PEAK.store(LIVE.load(Ordering::Relaxed), Ordering::Relaxed);
-        let start_live = LIVE.load(Ordering::Relaxed);
+        let heap = live_heap::mark();
         let started = std::time::Instant::now();
         let outcome = std::thread::spawn(move || check(&t2, &base)).join();
         let secs = started.elapsed().as_secs_f64();
-        let peak = PEAK.load(Ordering::Relaxed).saturating_sub(start_live);
+        let peak = heap.peak();
         let what = match outcome {
             Err(p) => {
                 let msg = p
