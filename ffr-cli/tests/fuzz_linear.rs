@@ -18,7 +18,8 @@
 //!
 //! `cargo test --test fuzz_linear` runs [`DEFAULT_CASES`] cases with a
 //! fixed seed; more with `FFR_FUZZ_CASES=10000 [FFR_FUZZ_SEED=7] cargo
-//! test --release --test fuzz_linear -- --nocapture`.
+//! test --release --test fuzz_linear -- --nocapture`, only some of the
+//! scenes with `FFR_FUZZ_SCENES=pendulum.toml,spin_up.toml`.
 
 mod live_heap;
 
@@ -189,7 +190,18 @@ fn fuzz_linear() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(36);
     let dir = ffr::scene::load::builtin_dir();
-    let scenes = if long { &SCENES[..] } else { &SCENES[..11] };
+    // `FFR_FUZZ_SCENES=a.toml,b.toml` fuzzes only those of the scenes.
+    let chosen: Vec<&str> = match std::env::var("FFR_FUZZ_SCENES") {
+        Ok(list) => SCENES
+            .iter()
+            .copied()
+            .filter(|s| list.split(',').any(|x| x.trim() == *s))
+            .collect(),
+        Err(_) if long => SCENES.to_vec(),
+        Err(_) => SCENES[..11].to_vec(),
+    };
+    assert!(!chosen.is_empty(), "FFR_FUZZ_SCENES names none of {SCENES:?}");
+    let scenes = &chosen[..];
     let specs: Vec<SceneSpec> = scenes
         .iter()
         .map(|s| ffr::scene::load::load_spec(&dir.join(s)).expect("a shipped scene"))
