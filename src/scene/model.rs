@@ -18,6 +18,17 @@ pub struct Output {
     pub relative_to: Option<Marker>,
 }
 
+/// A named input of a scene (`[[inputs]]`): a value a caller sets between
+/// steps ([`super::Simulation::set_input`]), held constant over each step.
+#[derive(Clone, Debug)]
+#[non_exhaustive]
+pub struct Input {
+    /// Its name.
+    pub name: String,
+    /// Its value before a caller or a profile sets another.
+    pub start: f64,
+}
+
 /// A loaded scene, ready to run.
 pub struct Scene {
     /// The file it came from.
@@ -34,6 +45,8 @@ pub struct Scene {
     pub integrator: Integrator,
     /// Output columns (after `t`).
     pub outputs: Vec<Output>,
+    /// Named inputs, in file order.
+    pub inputs: Vec<Input>,
     /// The flexible bodies as described (in body order).
     pub flex: Vec<FlexSpec>,
     /// The FE bodies as described (in body order).

@@ -135,6 +135,9 @@ pub struct Assembly<'s, B: Body> {
     /// motor torques): 1 except in a load-stepped static solution
     /// ([`Assembly::set_load_scale`]).
     load_scale: f64,
+    /// The values of the system's inputs (per assembly, so that several
+    /// integrations of one system are independent).
+    inputs: Vec<f64>,
 }
 
 /// A class's links (see [`Assembly::classes`]): a class whose positions,
@@ -478,7 +481,20 @@ impl<'s, B: Body> Assembly<'s, B> {
             class_link,
             gravity: sys.gravity,
             load_scale: 1.0,
+            inputs: Vec::new(),
         })
+    }
+}
+
+impl<B: Body> Assembly<'_, B> {
+    /// The values of the system's inputs.
+    pub fn inputs(&self) -> &[f64] {
+        &self.inputs
+    }
+
+    /// The values of the system's inputs, to set.
+    pub fn inputs_mut(&mut self) -> &mut [f64] {
+        &mut self.inputs
     }
 }
 

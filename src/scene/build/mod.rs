@@ -194,6 +194,7 @@ pub fn build(spec: &SceneSpec, provider: &dyn KernelProvider) -> Result<Scene, S
         dt: spec.dt,
         integrator: integrator(&spec.integrator),
         outputs,
+        inputs: Vec::new(),
         flex: parts.flex,
         fe: parts.fe,
         unsplit: parts.unsplit,
