@@ -163,6 +163,7 @@ pub struct Summary {
 }
 
 /// Preallocated vectors of the linear solves.
+#[derive(Clone)]
 struct Lin {
     r: Vec<f64>,
     x: Vec<f64>,
@@ -173,6 +174,7 @@ struct Lin {
 }
 
 /// Preallocated vectors of the steps.
+#[derive(Clone)]
 struct Work {
     lin: Lin,
     acc: Vec<f64>,
@@ -241,11 +243,371 @@ fn all_finite(x: &[f64]) -> bool {
     x.iter().all(|v| v.is_finite())
 }
 
+/// Check the step and the integrator's settings (`t_end` only for its sign
+/// and finiteness).
+pub fn check_settings(t_end: f64, dt: f64, integrator: &Integrator) -> Result<()> {
+    if !(dt > 0.0 && dt.is_finite() && t_end.is_finite() && t_end >= 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "need dt > 0 and t_end ≥ 0 (got dt = {dt}, t_end = {t_end})"
+        )));
+    }
+    if let Integrator::GeneralizedAlpha(g) = integrator {
+        if !(0.0..=1.0).contains(&g.rho_inf) {
+            return Err(Error::InvalidInput(format!(
+                "rho_inf = {} is not in [0, 1]",
+                g.rho_inf
+            )));
+        }
+        if !(g.rtol > 0.0 && g.rtol < 1.0) || g.max_iter == 0 {
+            return Err(Error::InvalidInput(format!(
+                "Newton tolerance {} must be in (0, 1) with at least one iteration",
+                g.rtol
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// One integration of a system, a step at a time: the assembled equations,
+/// the state, the integrator's history (the generalized-α auxiliary
+/// acceleration, the last step's accelerations and multipliers, the
+/// iteration matrix and its step length), the divergence monitor and the
+/// elastic-rotation tracker. [`System::simulate`] is a loop over
+/// [`Stepper::step`]; a caller that decides what happens between steps
+/// (inputs, a controller, a co-simulation master) holds a `Stepper`.
+/// Nothing is allocated inside a step.
+pub struct Stepper<'s, B: Body> {
+    asm: Assembly<'s, B>,
+    integrator: Integrator,
+    /// The end time the monitor's energy floor is scaled with.
+    t_end: f64,
+    w: Work,
+    state: State,
+    watch: Option<crate::monitor::Watch>,
+    rotations: crate::monitor::Rotations,
+    /// Counters (`last` and `rotations` are filled by [`Stepper::finish`]).
+    summary: Summary,
+    /// Newton iterations of the last step.
+    iterations: usize,
+}
+
+/// Everything a [`Stepper`]'s next step depends on, copied out
+/// ([`Stepper::save`]) to be put back ([`Stepper::restore`]): a restored
+/// stepper continues bit for bit as the one saved.
+#[derive(Clone)]
+pub struct StepperState {
+    w: Work,
+    state: State,
+    solver: crate::linalg::BorderedSystem,
+    inputs: Vec<f64>,
+    drives: Vec<[f64; 3]>,
+    watch: Option<crate::monitor::WatchState>,
+    rotations: Vec<crate::monitor::ElasticRotation>,
+    summary: Summary,
+    iterations: usize,
+}
+
+impl std::fmt::Debug for StepperState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StepperState")
+            .field("t", &self.state.t)
+            .field("steps", &self.summary.steps)
+            .finish_non_exhaustive()
+    }
+}
+
+impl StepperState {
+    /// The saved state (time, coordinates, velocities, accelerations,
+    /// multipliers).
+    pub fn state(&self) -> &State {
+        &self.state
+    }
+    /// Steps taken when it was saved.
+    pub fn steps(&self) -> usize {
+        self.summary.steps
+    }
+}
+
+/// A summary with no steps (and empty `last`, `rotations`).
+fn empty_summary() -> Summary {
+    Summary {
+        steps: 0,
+        last: State {
+            t: 0.0,
+            q: Vec::new(),
+            v: Vec::new(),
+            a: Vec::new(),
+            lambda: Vec::new(),
+        },
+        stopped: false,
+        newton_iterations: 0,
+        jacobians: 0,
+        restarts: 0,
+        splits: 0,
+        rotations: Vec::new(),
+    }
+}
+
+/// The consistent initial state of `asm`'s system at `t = 0` (checked),
+/// the integrator's work space, the monitor and the rotation tracker.
+#[allow(clippy::type_complexity)]
+fn start<B: Body>(
+    asm: &mut Assembly<'_, B>,
+    t_end: f64,
+) -> Result<(
+    Work,
+    State,
+    Option<crate::monitor::Watch>,
+    crate::monitor::Rotations,
+)> {
+    let sys = asm.sys;
+    let mut w = Work::new(asm);
+    let state = initial_state(asm, &mut w.lin, 0.0)?;
+    w.acc.copy_from_slice(&state.a);
+    // The initial state passes the validity check every later state
+    // passes (a body started at 1.8e308 m/s has an infinite energy: it
+    // ran until the energy monitor reported NaN J "gained from nowhere").
+    if sys.monitor.enabled {
+        crate::monitor::check_state(sys, &state.q, &state.v)
+            .map_err(|why| Error::InvalidInput(format!("the initial state is not valid: {why}")))?;
+    }
+    let watch = if sys.monitor.enabled {
+        Some(crate::monitor::Watch::new(asm, sys.monitor, &state, t_end)?)
+    } else {
+        None
+    };
+    let mut rotations = crate::monitor::Rotations::new(sys)?;
+    rotations.observe(state.t, &state.q);
+    Ok((w, state, watch, rotations))
+}
+
+impl<'s, B: Body> Stepper<'s, B> {
+    /// The consistent initial state of `sys` at `t = 0`, checked as
+    /// [`System::simulate`] checks it, ready to step with `integrator`.
+    /// `t_end` is the end time the divergence monitor scales its energy
+    /// floor with (the run's; stepping may go past it).
+    pub fn new(sys: &'s System<B>, t_end: f64, integrator: &Integrator) -> Result<Self> {
+        check_settings(t_end, 1.0, integrator)?;
+        let mut asm = Assembly::new(sys)?;
+        let (w, state, watch, rotations) = start(&mut asm, t_end)?;
+        Ok(Self {
+            asm,
+            integrator: *integrator,
+            t_end,
+            w,
+            state,
+            watch,
+            rotations,
+            summary: empty_summary(),
+            iterations: 0,
+        })
+    }
+
+    /// Start again from the consistent initial state at `t = 0` with the
+    /// inputs' current values (their drive perturbations at rest): what
+    /// setting an input before the first step means. An error (the initial
+    /// state with these values is refused) leaves the stepper unchanged.
+    pub fn restart(&mut self) -> Result<()> {
+        let drives = self.asm.drive_states().to_vec();
+        self.asm
+            .drive_states_mut()
+            .iter_mut()
+            .for_each(|d| *d = [0.0; 3]);
+        self.asm.sync_inputs();
+        match start(&mut self.asm, self.t_end) {
+            Ok((w, state, watch, rotations)) => {
+                self.w = w;
+                self.state = state;
+                self.watch = watch;
+                self.rotations = rotations;
+                self.summary = empty_summary();
+                self.iterations = 0;
+                Ok(())
+            }
+            Err(e) => {
+                self.asm.drive_states_mut().copy_from_slice(&drives);
+                self.asm.sync_inputs();
+                Err(e)
+            }
+        }
+    }
+
+    /// One step of length `h` from [`Stepper::state`] (the time after it is
+    /// `t + h`). An error leaves the state of the failed step (restore a
+    /// saved state to go on) and the counters of the steps before it.
+    pub fn step(&mut self, h: f64) -> Result<()> {
+        let s = &self.summary;
+        let before = (
+            s.steps,
+            s.newton_iterations,
+            s.jacobians,
+            s.restarts,
+            s.splits,
+        );
+        let r = self.try_step(h);
+        if r.is_err() {
+            let s = &mut self.summary;
+            (
+                s.steps,
+                s.newton_iterations,
+                s.jacobians,
+                s.restarts,
+                s.splits,
+            ) = before;
+        }
+        r
+    }
+
+    fn try_step(&mut self, h: f64) -> Result<()> {
+        let step = self.summary.steps;
+        let iters = match &self.integrator {
+            Integrator::GeneralizedAlpha(g) => ga_interval(
+                &mut self.asm,
+                g,
+                &mut self.state,
+                &mut self.w,
+                h,
+                step,
+                0,
+                &mut self.summary,
+            )?,
+            Integrator::Rk4(r) => {
+                rk4_step(&mut self.asm, r, &mut self.state, &mut self.w, h, step)?;
+                0
+            }
+        };
+        self.asm.advance_drive_perturbations(self.state.t);
+        self.iterations = iters;
+        self.summary.newton_iterations += iters;
+        self.summary.steps = step + 1;
+        self.rotations.observe(self.state.t, &self.state.q);
+        if let Some(w) = &mut self.watch {
+            w.after_step(&mut self.asm, &self.state, &self.summary)?;
+        }
+        Ok(())
+    }
+
+    /// The state.
+    pub fn state(&self) -> &State {
+        &self.state
+    }
+
+    /// The assembled equations (energies, powers, markers, inputs).
+    pub fn assembly(&mut self) -> &mut Assembly<'s, B> {
+        &mut self.asm
+    }
+
+    /// The values of the system's inputs.
+    pub fn inputs(&self) -> &[f64] {
+        self.asm.inputs()
+    }
+
+    /// The inputs' drive perturbations at the start of the next step
+    /// (`[t₀, δ₀, δ̇₀]` per input).
+    pub fn drive_states(&self) -> &[[f64; 3]] {
+        self.asm.drive_states()
+    }
+
+    /// Set input `k` to `value` from the next step on.
+    pub fn set_input(&mut self, k: usize, value: f64) {
+        self.asm.inputs_mut()[k] = value;
+        self.asm.sync_inputs();
+    }
+
+    /// The state and the assembled equations at once.
+    pub fn state_and_assembly(&mut self) -> (&State, &mut Assembly<'s, B>) {
+        (&self.state, &mut self.asm)
+    }
+
+    /// The counters so far (steps, Newton iterations, iteration matrices,
+    /// restarts, splits; `last` and `rotations` are empty until
+    /// [`Stepper::finish`]).
+    pub fn counters(&self) -> &Summary {
+        &self.summary
+    }
+
+    /// Newton iterations of the last step (0 before the first and for RK4).
+    pub fn last_iterations(&self) -> usize {
+        self.iterations
+    }
+
+    /// What an observer sees now.
+    pub fn view(&mut self) -> StepView<'_, 's, B> {
+        StepView {
+            step: self.summary.steps,
+            state: &self.state,
+            iterations: self.iterations,
+            jacobians: self.summary.jacobians,
+            assembly: &mut self.asm,
+        }
+    }
+
+    /// The largest elastic section rotation of each flexible body so far.
+    pub fn rotations(&self) -> &[crate::monitor::ElasticRotation] {
+        &self.rotations.max
+    }
+
+    /// The summary of the integration so far, with the final state.
+    pub fn finish(self) -> Summary {
+        Summary {
+            last: self.state,
+            rotations: self.rotations.max,
+            ..self.summary
+        }
+    }
+
+    /// Everything the next step depends on (allocates: a copy of the
+    /// state, the integrator's history and the factored iteration matrix).
+    pub fn save(&self) -> StepperState {
+        StepperState {
+            w: self.w.clone(),
+            state: self.state.clone(),
+            solver: self.asm.solver.clone(),
+            inputs: self.asm.inputs().to_vec(),
+            drives: self.asm.drive_states().to_vec(),
+            watch: self.watch.as_ref().map(|w| w.save()),
+            rotations: self.rotations.max.clone(),
+            summary: self.summary.clone(),
+            iterations: self.iterations,
+        }
+    }
+
+    /// Put back a state saved from a stepper of the same system (`Err` if
+    /// its sizes differ; nothing is changed then).
+    pub fn restore(&mut self, s: &StepperState) -> Result<()> {
+        let same = s.state.q.len() == self.state.q.len()
+            && s.state.lambda.len() == self.state.lambda.len()
+            && s.inputs.len() == self.asm.inputs().len()
+            && s.rotations.len() == self.rotations.max.len()
+            && s.watch.is_some() == self.watch.is_some()
+            && s.solver.same_shape(&self.asm.solver);
+        if !same {
+            return Err(Error::InvalidInput(
+                "the saved state is of another system".into(),
+            ));
+        }
+        self.w.clone_from(&s.w);
+        self.state.clone_from(&s.state);
+        self.asm.solver.clone_from(&s.solver);
+        self.asm.inputs_mut().copy_from_slice(&s.inputs);
+        self.asm.drive_states_mut().copy_from_slice(&s.drives);
+        self.asm.sync_inputs();
+        if let (Some(w), Some(saved)) = (&mut self.watch, &s.watch) {
+            w.restore(saved);
+        }
+        self.rotations.max.clone_from(&s.rotations);
+        self.summary.clone_from(&s.summary);
+        self.iterations = s.iterations;
+        Ok(())
+    }
+}
+
 impl<B: Body> System<B> {
     /// Integrate from the consistent initial state at `t = 0` to `t_end` with
     /// step `dt`, calling `observer` at the start and after each step (it may
     /// stop the run with `ControlFlow::Break`). Nothing is allocated inside a
-    /// step.
+    /// step. A loop over [`Stepper::step`] (the last step shortened to end
+    /// at `t_end`).
     pub fn simulate(
         &self,
         t_end: f64,
@@ -253,112 +615,23 @@ impl<B: Body> System<B> {
         integrator: &Integrator,
         mut observer: impl FnMut(&mut StepView<B>) -> ControlFlow<()>,
     ) -> Result<Summary> {
-        if !(dt > 0.0 && dt.is_finite() && t_end.is_finite() && t_end >= 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "need dt > 0 and t_end ≥ 0 (got dt = {dt}, t_end = {t_end})"
-            )));
-        }
-        if let Integrator::GeneralizedAlpha(g) = integrator {
-            if !(0.0..=1.0).contains(&g.rho_inf) {
-                return Err(Error::InvalidInput(format!(
-                    "rho_inf = {} is not in [0, 1]",
-                    g.rho_inf
-                )));
-            }
-            if !(g.rtol > 0.0 && g.rtol < 1.0) || g.max_iter == 0 {
-                return Err(Error::InvalidInput(format!(
-                    "Newton tolerance {} must be in (0, 1) with at least one iteration",
-                    g.rtol
-                )));
-            }
-        }
-        let steps_f = (t_end / dt - 1e-9).ceil().max(0.0);
-        if steps_f > 1e10 {
-            return Err(Error::InvalidInput(format!(
-                "t_end / dt = {steps_f:e} steps is more than this program will take"
-            )));
-        }
-        let n_steps = steps_f as usize;
-        let mut asm = Assembly::new(self)?;
-        let mut w = Work::new(&asm);
-        let mut state = initial_state(&mut asm, &mut w.lin, 0.0)?;
-        w.acc.copy_from_slice(&state.a);
-        // The initial state passes the validity check every later state
-        // passes (a body started at 1.8e308 m/s has an infinite energy: it
-        // ran until the energy monitor reported NaN J "gained from nowhere").
-        if self.monitor.enabled {
-            crate::monitor::check_state(self, &state.q, &state.v).map_err(|why| {
-                Error::InvalidInput(format!("the initial state is not valid: {why}"))
-            })?;
-        }
-        let mut watch = if self.monitor.enabled {
-            Some(crate::monitor::Watch::new(
-                &mut asm,
-                self.monitor,
-                &state,
-                t_end,
-            )?)
-        } else {
-            None
-        };
-        let mut rotations = crate::monitor::Rotations::new(asm.sys)?;
-        rotations.observe(state.t, &state.q);
-        let mut summary = Summary {
-            steps: 0,
-            last: state.clone(),
-            stopped: false,
-            newton_iterations: 0,
-            jacobians: 0,
-            restarts: 0,
-            splits: 0,
-            rotations: Vec::new(),
-        };
-        let mut view = StepView {
-            step: 0,
-            state: &state,
-            iterations: 0,
-            jacobians: 0,
-            assembly: &mut asm,
-        };
-        if observer(&mut view).is_break() {
+        check_settings(t_end, dt, integrator)?;
+        let n_steps = step_count(t_end, dt)?;
+        let mut stepper = Stepper::new(self, t_end, integrator)?;
+        if observer(&mut stepper.view()).is_break() {
+            let mut summary = stepper.finish();
             summary.stopped = true;
-            summary.rotations = rotations.max;
             return Ok(summary);
         }
-        for step in 0..n_steps {
-            let t0 = state.t;
-            let h = (t_end - t0).min(dt);
-            let h = if h < 1e-12 * dt { dt } else { h };
-            let iters = match integrator {
-                Integrator::GeneralizedAlpha(g) => {
-                    ga_interval(&mut asm, g, &mut state, &mut w, h, step, 0, &mut summary)?
-                }
-                Integrator::Rk4(r) => {
-                    rk4_step(&mut asm, r, &mut state, &mut w, h, step)?;
-                    0
-                }
-            };
-            summary.newton_iterations += iters;
-            summary.steps = step + 1;
-            rotations.observe(state.t, &state.q);
-            if let Some(w) = &mut watch {
-                w.after_step(&mut asm, &state, &summary)?;
-            }
-            let mut view = StepView {
-                step: step + 1,
-                state: &state,
-                iterations: iters,
-                jacobians: summary.jacobians,
-                assembly: &mut asm,
-            };
-            if observer(&mut view).is_break() {
+        for _ in 0..n_steps {
+            stepper.step(step_length(stepper.state().t, t_end, dt))?;
+            if observer(&mut stepper.view()).is_break() {
+                let mut summary = stepper.finish();
                 summary.stopped = true;
-                break;
+                return Ok(summary);
             }
         }
-        summary.last = state;
-        summary.rotations = rotations.max;
-        Ok(summary)
+        Ok(stepper.finish())
     }
 
     /// The consistent initial state at `t0`: prescribed coordinates from their
@@ -401,6 +674,30 @@ fn initial_state<B: Body>(asm: &mut Assembly<B>, w: &mut Lin, t0: f64) -> Result
         a,
         lambda: lam,
     })
+}
+
+/// The number of steps of `dt` that reach `t_end` (the last one possibly
+/// shorter, [`step_length`]).
+pub fn step_count(t_end: f64, dt: f64) -> Result<usize> {
+    let steps_f = (t_end / dt - 1e-9).ceil().max(0.0);
+    if steps_f > 1e10 {
+        return Err(Error::InvalidInput(format!(
+            "t_end / dt = {steps_f:e} steps is more than this program will take"
+        )));
+    }
+    Ok(steps_f as usize)
+}
+
+/// The length of the step from `t0` of a run to `t_end` with step `dt`:
+/// `dt`, or what is left to `t_end` if that is less (and not a sliver of
+/// round-off, below `10⁻¹² dt`).
+pub fn step_length(t0: f64, t_end: f64, dt: f64) -> f64 {
+    let h = (t_end - t0).min(dt);
+    if h < 1e-12 * dt {
+        dt
+    } else {
+        h
+    }
 }
 
 /// Solve the index-1 equations for the free accelerations (prescribed ones

@@ -55,7 +55,9 @@ pub use driver::Driver;
 pub use error::{Error, Result};
 pub use ffr_spec as spec;
 pub use force::{ForceAxes, ForceElement, TorqueLaw};
-pub use integrator::{GeneralizedAlpha, Integrator, Rk4Baumgarte, State, StepView, Summary};
+pub use integrator::{
+    GeneralizedAlpha, Integrator, Rk4Baumgarte, State, StepView, Stepper, StepperState, Summary,
+};
 pub use interrupt::Interrupt;
 pub use joint::Constraint;
 pub use kernel::{

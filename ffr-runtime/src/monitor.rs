@@ -376,6 +376,17 @@ pub fn elastic_rotations<B: Body>(
     Ok(r.max)
 }
 
+/// What a [`Watch`] accumulates over a run (its integrals and the first
+/// excess), saved and restored with a stepper's state.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct WatchState {
+    work: f64,
+    work_abs: f64,
+    dissipated: f64,
+    last: Option<(f64, crate::Power)>,
+    first_excess: Option<f64>,
+}
+
 /// The monitor's state during one run.
 pub(crate) struct Watch {
     settings: Monitor,
@@ -456,6 +467,26 @@ impl Watch {
             last: Some((state.t, asm.power(state.t, &state.q, &state.v))),
             first_excess: None,
         })
+    }
+
+    /// What it has accumulated.
+    pub(crate) fn save(&self) -> WatchState {
+        WatchState {
+            work: self.work,
+            work_abs: self.work_abs,
+            dissipated: self.dissipated,
+            last: self.last,
+            first_excess: self.first_excess,
+        }
+    }
+
+    /// Put back what [`Watch::save`] gave.
+    pub(crate) fn restore(&mut self, s: &WatchState) {
+        self.work = s.work;
+        self.work_abs = s.work_abs;
+        self.dissipated = s.dissipated;
+        self.last = s.last;
+        self.first_excess = s.first_excess;
     }
 
     /// Check the state after a step; `Err(Error::Diverged)` stops the run.

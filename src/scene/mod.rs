@@ -10,6 +10,8 @@
 //! - [`model`]: the built scene and its output columns;
 //! - [`provider`]: where flexible bodies get their kernels;
 //! - [`run`](mod@run): the run and its recorded columns;
+//! - [`simulation`]: a scene stepped by its caller ([`Simulation`]: inputs,
+//!   outputs, exact save and restore);
 //! - [`linear`]: linear models (`A, B, C, D`) and Campbell diagrams;
 //! - [`statics`]: the static equilibrium under the scene's loads and its
 //!   outputs (`ffr static`);
@@ -30,6 +32,7 @@ pub mod load;
 pub mod model;
 pub mod provider;
 pub mod run;
+pub mod simulation;
 pub mod statics;
 #[cfg(feature = "vtk")]
 pub mod vtk;
@@ -42,8 +45,9 @@ pub use build::build;
 pub use edit::{SceneText, SceneValue};
 #[cfg(feature = "scene-files")]
 pub use load::{from_str, load, load_with};
-pub use model::{input_files, EnergyPart, Output, OutputKind, Scene, MAX_RECORDED_VALUES};
+pub use model::{input_files, EnergyPart, Input, Output, OutputKind, Scene, MAX_RECORDED_VALUES};
 pub use provider::KernelProvider;
 #[cfg(feature = "scene-files")]
 pub use provider::{DefaultKernels, GeneralKernels};
 pub use run::{run, run_interruptible, run_with, RunOptions, SceneRun};
+pub use simulation::{Simulation, SimulationState};

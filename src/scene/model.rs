@@ -18,6 +18,32 @@ pub struct Output {
     pub relative_to: Option<Marker>,
 }
 
+/// A named input of a scene (`[[inputs]]`): a value a caller sets between
+/// steps ([`super::Simulation::set_input`]), held constant over each step.
+#[derive(Clone)]
+#[non_exhaustive]
+pub struct Input {
+    /// Its name.
+    pub name: String,
+    /// Its value at `t = 0` (the profile's there, if it has one).
+    pub start: f64,
+    /// What it does.
+    pub kind: crate::runtime::spec::scene::InputKind,
+    /// Its value at each step's start when no caller has set it (`profile`).
+    pub profile: Option<std::sync::Arc<dyn Fn(f64) -> f64 + Send + Sync>>,
+}
+
+impl std::fmt::Debug for Input {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Input")
+            .field("name", &self.name)
+            .field("start", &self.start)
+            .field("kind", &self.kind)
+            .field("profile", &self.profile.is_some())
+            .finish()
+    }
+}
+
 /// A loaded scene, ready to run.
 pub struct Scene {
     /// The file it came from.
@@ -34,6 +60,8 @@ pub struct Scene {
     pub integrator: Integrator,
     /// Output columns (after `t`).
     pub outputs: Vec<Output>,
+    /// Named inputs, in file order.
+    pub inputs: Vec<Input>,
     /// The flexible bodies as described (in body order).
     pub flex: Vec<FlexSpec>,
     /// The FE bodies as described (in body order).

@@ -1,6 +1,7 @@
 //! Running a scene: the outputs recorded at every step.
 
 use super::model::{EnergyPart, OutputKind, Scene};
+use super::simulation::Stepping;
 use crate::runtime::marker::MarkerKin;
 use crate::runtime::{Assembly, Body, Interrupt};
 use std::ops::ControlFlow;
@@ -116,8 +117,7 @@ fn run_observed(
     interrupt: Interrupt<'_>,
     mut observe: impl FnMut(f64, &[f64]) -> ControlFlow<()>,
 ) -> Result<SceneRun, crate::runtime::Error> {
-    let sys = &scene.system;
-    let mut recorder = Recorder::new(scene);
+    use crate::runtime::integrator::{step_count, step_length};
     // Reserve for the whole run only up to a bound: the loader checked that
     // the recorded values fit (`super::load::MAX_RECORDED_VALUES`), and a
     // run that stops early should not have taken the memory of its end.
@@ -132,39 +132,22 @@ fn run_observed(
             .collect(),
         ..SceneRun::default()
     };
-    let wants_power = scene.outputs.iter().any(|o| {
-        matches!(
-            o.kind,
-            OutputKind::Energy(EnergyPart::Work | EnergyPart::Dissipated)
-        )
-    });
-    // Work and dissipation so far, and the last step's powers and time.
-    let (mut work, mut dissipated) = (0.0, 0.0);
-    let mut last_power: Option<(f64, crate::runtime::Power)> = None;
     let start = std::time::Instant::now();
-    // Steps, Newton iterations and iteration matrices so far (a failed run
-    // reports how far it got).
+    // Steps, Newton iterations and iteration matrices of the samples
+    // recorded (a failed run reports how far it got).
     let (mut steps, mut iterations, mut jacobians) = (0, 0, 0);
     let mut interrupted = false;
-    let res = sys.simulate(scene.t_end, scene.dt, &scene.integrator, |v| {
-        steps = v.step;
-        iterations += v.iterations;
-        jacobians = v.jacobians;
-        let (q, qd) = (&v.state.q, &v.state.v);
-        out.t.push(v.state.t);
-        if wants_power {
-            let p = v.assembly.power(v.state.t, q, qd);
-            if let Some((t0, p0)) = last_power {
-                let h = 0.5 * (v.state.t - t0);
-                work += h * (p0.applied + p.applied);
-                dissipated += h * (p0.dissipated + p.dissipated);
-            }
-            last_power = Some((v.state.t, p));
+    let mut sample = |s: &Stepping<'_>, out: &mut SceneRun| {
+        let c = s.stepper().counters();
+        steps = c.steps;
+        iterations = c.newton_iterations;
+        jacobians = c.jacobians;
+        let state = s.stepper().state();
+        out.t.push(state.t);
+        for (col, v) in out.columns.iter_mut().zip(s.outputs()) {
+            col.push(*v);
         }
-        recorder.record(scene, v.assembly, q, qd, (work, dissipated), |i, value| {
-            out.columns[i].push(value)
-        });
-        if observe(v.state.t, q).is_break() {
+        if observe(state.t, &state.q).is_break() {
             return ControlFlow::Break(());
         }
         if interrupt.requested() {
@@ -172,7 +155,21 @@ fn run_observed(
             return ControlFlow::Break(());
         }
         ControlFlow::Continue(())
-    });
+    };
+    let res = (|| {
+        crate::runtime::integrator::check_settings(scene.t_end, scene.dt, &scene.integrator)?;
+        let n_steps = step_count(scene.t_end, scene.dt)?;
+        let mut s = Stepping::new(scene)?;
+        if sample(&s, &mut out).is_continue() {
+            for _ in 0..n_steps {
+                s.step(step_length(s.stepper().state().t, scene.t_end, scene.dt))?;
+                if sample(&s, &mut out).is_break() {
+                    break;
+                }
+            }
+        }
+        Ok(s.into_stepper().finish())
+    })();
     if interrupted {
         return Err(crate::runtime::Error::Interrupted);
     }
@@ -212,7 +209,7 @@ fn run_observed(
 /// first value in `(−π, π]`).
 pub(super) struct Recorder {
     kins: Vec<(MarkerKin, Option<MarkerKin>)>,
-    prev_angle: Vec<f64>,
+    pub(super) prev_angle: Vec<f64>,
 }
 
 impl Recorder {

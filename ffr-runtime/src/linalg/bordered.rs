@@ -264,6 +264,25 @@ impl BorderedSystem {
         Self::build(blocks, k, Schur::Band(BandMatrix::new(k, kl, ku)))
     }
 
+    /// Whether `other` has the same block shapes, border and storage (so
+    /// that one's factorization can stand in for the other's).
+    pub fn same_shape(&self, other: &Self) -> bool {
+        let schur = match (&self.schur, &other.schur) {
+            (Schur::Dense(a), Schur::Dense(b)) => a.n() == b.n(),
+            (Schur::Band(a), Schur::Band(b)) => (a.n(), a.kl(), a.ku()) == (b.n(), b.kl(), b.ku()),
+            _ => false,
+        };
+        schur
+            && self.k == other.k
+            && self.n_band == other.n_band
+            && self.blocks.len() == other.blocks.len()
+            && self.blocks.iter().zip(&other.blocks).all(|(a, b)| {
+                (a.band.n(), a.band.kl(), a.band.ku()) == (b.band.n(), b.band.kl(), b.band.ku())
+                    && a.border == b.border
+                    && a.offset == b.offset
+            })
+    }
+
     fn build(blocks: &[BlockShape], k: usize, schur: Schur) -> Self {
         let mut offset = 0;
         let blocks = blocks
