@@ -122,6 +122,9 @@ class SceneEnv(gymnasium.Env):
         if (low > high).any():
             raise ValueError(f"action_low {low} is above action_high {high}")
         self.action_space = spaces.Box(low=low, high=high, dtype=np.float64)
+        # Outputs have no bounds: (-inf, inf), as Gymnasium's MuJoCo
+        # environments declare theirs (the checker warns that an infinite
+        # bound is probably too wide).
         self.observation_space = spaces.Box(
             low=-np.inf, high=np.inf, shape=(len(self._outputs),), dtype=np.float64
         )
