@@ -370,3 +370,125 @@ fn bad_input_values_are_refused_and_change_nothing() {
     sim.step().unwrap();
     assert_eq!(bits(&sim.state().q), after);
 }
+
+/// `scenes/two_link_arm_inputs.toml` (shipped): run without a caller, the
+/// elbow torque follows its profile; the motor's and the inputs' work and
+/// the dampers' dissipation account for the change of the mechanical
+/// energy to the integrator's O(dt²) error (the `work` output counts the
+/// input torque's power as a motor's): `max |E − E(0) − W + D|` below
+/// 2e-4 of `max |W|`, and 3 to 5.5 times less at half the step. The
+/// elbow moves away from the arm without inputs once the pulse starts.
+#[test]
+fn the_shipped_inputs_scene_balances_its_energy() {
+    let balance = |text: &str| {
+        let r = scene::run(&load(text)).unwrap();
+        assert!(r.failed.is_none(), "{:?}", r.failed);
+        let col = |n: &str| r.columns[r.names.iter().position(|x| x == n).unwrap()].clone();
+        let (e, w, d) = (col("energy"), col("motor_work"), col("dissipated"));
+        let worst = (0..e.len())
+            .map(|i| (e[i] - e[0] - w[i] + d[i]).abs())
+            .fold(0.0, f64::max);
+        (worst, w.iter().fold(0.0f64, |a, x| a.max(x.abs())), r)
+    };
+    let t = text("two_link_arm_inputs.toml").replace("t_end = 2.0", "t_end = 1.5");
+    let (b1, w1, r) = balance(&t);
+    let (b2, _, _) = balance(&t.replace("dt = 1e-3", "dt = 5e-4"));
+    println!("max |E − E0 − W + D| {b1:.3e} J (dt 1e-3), {b2:.3e} J (dt 5e-4), ratio {:.2}; max |W| {w1:.3} J", b1 / b2);
+    assert!(b1 < 2e-4 * w1, "{b1:e} vs {w1:e}");
+    assert!((3.0..5.5).contains(&(b1 / b2)), "second order: {}", b1 / b2);
+    let plain = scene::run(&load(
+        &text("two_link_arm.toml").replace("t_end = 2.0", "t_end = 1.5"),
+    ))
+    .unwrap();
+    let elbow = r.names.iter().position(|n| n == "elbow").unwrap();
+    let at = |r: &ffr::scene::SceneRun, t: f64| r.columns[elbow][(t / 1e-3).round() as usize];
+    assert!(
+        (at(&r, 0.25) - at(&plain, 0.25)).abs() < 1e-9,
+        "no torque before 0.3 s"
+    );
+    assert!(
+        (at(&r, 1.0) - at(&plain, 1.0)).abs() > 1e-3,
+        "the pulse moves the elbow"
+    );
+}
+
+/// The closed loop of docs/in-the-loop.md ("Stepping API (Rust)"): a P
+/// law on the elbow torque of the shipped inputs scene (its target ramped
+/// to 0.2 rad over 0.5 s: a torque step on a flexible link's root section
+/// rings its highest modes, which ρ∞ = 1 keeps), through `set_input_at`
+/// and `step`; then save, advance, restore. Against the arm without the
+/// elbow torque, the controller turns the elbow towards its target by
+/// about the static share `kp φ*/(kp + k) = 0.04` rad of the elbow spring
+/// (k = 2 N m/rad); the arm swings on its shoulder motor meanwhile.
+#[test]
+fn the_documented_closed_loop_runs() {
+    let scene = Arc::new(load(&text("two_link_arm_inputs.toml")));
+    let mut sim = Simulation::new(scene).unwrap();
+    let tau = sim
+        .input_names()
+        .iter()
+        .position(|n| *n == "elbow_tau")
+        .unwrap();
+    let elbow = sim
+        .output_names()
+        .iter()
+        .position(|n| *n == "elbow")
+        .unwrap();
+    let (kp, kd, target) = (0.5, 0.0, 0.2);
+    let mut last = sim.outputs()[elbow];
+    while sim.time() < 1.0 {
+        let angle = sim.outputs()[elbow];
+        let rate = (angle - last) / sim.scene().dt;
+        last = angle;
+        sim.set_input_at(
+            tau,
+            kp * (target * (sim.time() / 0.5).min(1.0) - angle) - kd * rate,
+        )
+        .unwrap();
+        sim.step().unwrap();
+    }
+    let saved = sim.save_state();
+    let at_one = sim.outputs()[elbow];
+    sim.advance_to(1.5).unwrap();
+    assert!((sim.time() - 1.5).abs() < 1e-9);
+    sim.restore_state(&saved).unwrap();
+    assert_eq!(sim.outputs()[elbow], at_one);
+    let mut free = Simulation::new(Arc::new(load(&text("two_link_arm.toml")))).unwrap();
+    free.advance_to(1.0).unwrap();
+    let moved = at_one - free.output("elbow").unwrap();
+    println!("elbow at 1 s: {at_one} with the controller, moved by {moved}");
+    assert!((0.02..0.06).contains(&moved), "{moved}");
+}
+
+/// `linearize` at a time `T` of a scene whose inputs have profiles or
+/// drive perturbations runs to `T` as `ffr run` does (the profiles
+/// applied), so its operating state is the simulation's at `T` (to the
+/// round-off of the last step's length, which the run to `T` computes as
+/// `T − t`), and the model is taken with the inputs' values there.
+#[test]
+fn linearize_runs_to_its_time_with_the_inputs_profiles() {
+    use ffr::scene::linear::{linearize_scene, At};
+    let t = text("two_link_arm.toml")
+        + "\n[[inputs]]\nname = \"elbow_acc\"\nkind = \"drive-acceleration\"\njoint = 3\nstart = 0.5\n"
+        + "\n[[inputs]]\nname = \"push\"\nkind = \"force\"\nat = \"forearm@x=0.4\"\ndirection = [0.0, 1.0]\naxes = \"body\"\nprofile = { table = [[0.0, 0.0], [1.0, 0.5]] }\n";
+    let t = t.replace(
+        "a = \"upper@x=0.5\"\nb = \"forearm\"\n\n#",
+        "a = \"upper@x=0.5\"\nb = \"forearm\"\ndrive = { angle = \"constant\", value = 0.0 }\n\n#",
+    );
+    let spec = ffr::codegen::scene::resolve_str(&t, "arm.toml", &scenes()).unwrap();
+    let names = vec!["push".to_string(), "elbow_acc".to_string()];
+    let m = linearize_scene(&spec, &DefaultKernels, At::Time(0.6), Some(&names), None).unwrap();
+    let mut sim = Simulation::new(Arc::new(load(&t))).unwrap();
+    sim.advance_to(0.6).unwrap();
+    let worst = m
+        .state
+        .q
+        .iter()
+        .zip(&sim.state().q)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-12, "{worst:e}");
+    // The elbow drive's perturbation is in that state: ½ u t² = 0.09 rad.
+    let elbow = sim.output("elbow").unwrap();
+    assert!((elbow - 0.5 * 0.5 * 0.36).abs() < 1e-9, "{elbow}");
+}
