@@ -2,7 +2,9 @@
 
 Scene files loaded, changed by dotted keys and run (the GIL released, the
 outputs as numpy arrays); a body's modes and invariants; a scene's linear
-model and Campbell diagram. The computations are the Rust library's, the
+model and Campbell diagram; a scene stepped by its caller
+(``scene.simulation()``) and, with Gymnasium, as an environment
+(``ffr.gym.SceneEnv``). The computations are the Rust library's, the
 same as the ``ffr`` command line's. See docs/python.md.
 """
 
@@ -11,7 +13,9 @@ from ._ffr import (
     RunResult,
     Scene,
     SceneError,
+    Simulation,
     SimulationError,
+    SimulationState,
     __version__,
     campbell,
     invariants,
@@ -24,7 +28,9 @@ __all__ = [
     "RunResult",
     "Scene",
     "SceneError",
+    "Simulation",
     "SimulationError",
+    "SimulationState",
     "__version__",
     "campbell",
     "invariants",

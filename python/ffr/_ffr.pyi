@@ -91,6 +91,57 @@ class Scene:
         equilibrium (a mechanism, an unstable state, no convergence);
         Ctrl-C stops it (KeyboardInterrupt)."""
 
+    def simulation(self) -> "Simulation":
+        """A simulation of the scene as it is now, stepped by the caller:
+        the steps of ``run()``, one at a time (later ``set`` calls on the
+        scene do not change it). A refused initial state raises as
+        ``run()`` does."""
+
+class Simulation:
+    """A scene stepped by its caller (``Scene.simulation()``): inputs
+    (``[[inputs]]``) set between steps and held (zero-order hold), outputs
+    read after each step, the state saved and restored exactly. Stepping to
+    the end gives the samples of ``Scene.run()`` bit for bit."""
+
+    #: The time (s).
+    t: float
+    #: The scene's step (s): what one ``step()`` advances.
+    dt: float
+    #: Steps taken.
+    steps: int
+    #: The scene's input and output names, in file order.
+    input_names: List[str]
+    output_names: List[str]
+    #: The inputs' values now.
+    inputs: Dict[str, float]
+    #: The outputs at ``t`` (what ``run()`` records at that sample).
+    outputs: Dict[str, float]
+    #: The message of the step that failed, or None.
+    failed: Optional[str]
+    def step(self, inputs: Optional[Dict[str, float]] = None) -> None:
+        """Set ``inputs`` (they hold until set again) and take one step of
+        ``dt`` with the GIL released. An unknown name raises KeyError, a
+        value that is not a finite number ValueError or TypeError, before
+        anything changes; a failed step raises SimulationError (and every
+        later step too, until ``restore``)."""
+    def advance(self, t: float, inputs: Optional[Dict[str, float]] = None) -> None:
+        """Set ``inputs`` as ``step`` does and take whole steps until ``t``
+        (s), the GIL released; Ctrl-C stops it at a step
+        (KeyboardInterrupt). A ``t`` behind the time or between two steps
+        raises ValueError before any step."""
+    def state(self) -> "SimulationState":
+        """Everything the next step depends on, for ``restore``."""
+    def restore(self, state: "SimulationState") -> None:
+        """Put back a state: the simulation continues bit for bit as it did
+        from there (a failure is forgotten); a state of another scene
+        raises ValueError."""
+
+class SimulationState:
+    """A saved Simulation state (opaque)."""
+
+    #: Its time (s).
+    t: float
+
 class RunResult:
     """A scene run: each output by name as a numpy array, the times ``t``,
     and the run's statistics."""

@@ -28,6 +28,8 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
+mod simulation;
+
 create_exception!(
     ffr,
     FfrError,
@@ -507,6 +509,15 @@ impl Scene {
         }
         warn_all(py, &r.warnings)?;
         RunResult::new(py, r)
+    }
+
+    /// A simulation of the scene as it is now, stepped by the caller
+    /// (`sim.step(inputs={…})`, `sim.advance(t)`, `sim.outputs`,
+    /// `sim.state()` / `sim.restore(state)`): the steps of `run()`, one at
+    /// a time. Later `set` calls on the scene do not change it. A scene
+    /// whose initial state is refused raises as `run()` does.
+    fn simulation(&self) -> PyResult<simulation::Simulation> {
+        simulation::Simulation::new(self.snapshot().built)
     }
 
     /// The static equilibrium under the scene's loads at t = 0 (the GIL
@@ -1219,6 +1230,8 @@ fn _ffr(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SimulationError", py.get_type::<SimulationError>())?;
     m.add_class::<Scene>()?;
     m.add_class::<RunResult>()?;
+    m.add_class::<simulation::Simulation>()?;
+    m.add_class::<simulation::SimulationState>()?;
     m.add_function(wrap_pyfunction!(invariants, m)?)?;
     m.add_function(wrap_pyfunction!(modes, m)?)?;
     m.add_function(wrap_pyfunction!(linearize, m)?)?;

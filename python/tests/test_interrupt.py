@@ -1,4 +1,5 @@
 """Ctrl-C during the long calls: `Scene.run()`, `Scene.static()`,
+`Simulation.advance`,
 `ffr.linearize` (run to its time) and `ffr.campbell` raise
 `KeyboardInterrupt` within a fraction of a second of a real SIGINT, not
 after the call's end nor as a Rust panic, and the scene stays usable.
@@ -99,8 +100,23 @@ def after():
     assert s.static()["steps"] >= 1
 """
 
+ADVANCE = """
+s = ffr.Scene.load(SCENES + "/spin_up.toml")
+s.update({"bodies.beam.elements": 32, "dt": 5e-4})
+sim = s.simulation()
+call = lambda: sim.advance(2000.0)
+def after():
+    # Stopped at a whole step, usable: one more step, then back to t = 0.
+    assert 0 < sim.steps < 4000000 and sim.failed is None
+    t = sim.t
+    sim.step()
+    assert sim.t > t
+"""
 
-@pytest.mark.parametrize("setup", [RUN, LINEARIZE, CAMPBELL, STATIC], ids=["run", "linearize", "campbell", "static"])
+
+@pytest.mark.parametrize(
+    "setup", [RUN, LINEARIZE, CAMPBELL, STATIC, ADVANCE], ids=["run", "linearize", "campbell", "static", "advance"]
+)
 def test_ctrl_c_stops_a_long_call_within_a_fraction_of_a_second(setup):
     out = child(setup)
     assert out["raised"] == "KeyboardInterrupt", out

@@ -388,6 +388,17 @@ impl Simulation {
     /// A `t` that whole steps do not reach (behind the time, not finite,
     /// or between two steps) is an error before any step.
     pub fn advance_to(&mut self, t: f64) -> crate::Result<()> {
+        self.advance_to_interruptible(t, crate::runtime::Interrupt::NEVER)
+    }
+
+    /// [`Simulation::advance_to`], polling `interrupt` after every step:
+    /// when it asks to stop, [`crate::runtime::Error::Interrupted`] at the
+    /// step reached (a usable simulation, at a whole step before `t`).
+    pub fn advance_to_interruptible(
+        &mut self,
+        t: f64,
+        interrupt: crate::runtime::Interrupt<'_>,
+    ) -> crate::Result<()> {
         if let Some(f) = &self.failed {
             return Err(crate::Error::Invalid(f.clone()));
         }
@@ -406,6 +417,7 @@ impl Simulation {
         }
         for _ in 0..k as u64 {
             self.step()?;
+            interrupt.check()?;
         }
         Ok(())
     }

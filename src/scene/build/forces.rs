@@ -94,6 +94,10 @@ pub(super) fn table_value(rows: &[[f64; 2]], t: f64) -> f64 {
     let [t0, f0] = rows[i - 1];
     match rows.get(i) {
         None => f0,
+        // A flat segment is its value exactly (the weights would round
+        // it by an ulp): a table written as a staircase of held values
+        // gives the bits of the same values set step by step.
+        Some(&[_, f1]) if f1 == f0 => f0,
         Some(&[t1, f1]) => {
             let w = (t - t0) / (t1 - t0);
             f0 * (1.0 - w) + f1 * w
@@ -117,5 +121,16 @@ mod tests {
         assert_eq!(table_value(&rows, 1e9), -1.0);
         assert_eq!(table_value(&[[2.0, 7.0]], 1.0), 7.0);
         assert_eq!(table_value(&[[2.0, 7.0]], 3.0), 7.0);
+        // A flat segment gives its value exactly (the weights 1 − w, w
+        // alone give 0.652 · (1 − w) + 0.652 · w = 0.6520000000000001 at
+        // w = 0.79).
+        let flat = [[0.0, 0.652], [1.0, 0.652]];
+        let w = 0.79f64;
+        assert_ne!(
+            0.652 * (1.0 - w) + 0.652 * w,
+            0.652,
+            "the case shows the rounding"
+        );
+        assert_eq!(table_value(&flat, 0.79), 0.652);
     }
 }
