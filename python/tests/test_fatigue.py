@@ -303,3 +303,98 @@ def test_two_samples_are_one_half_cycle():
     assert (c.range.tolist(), c.mean.tolist(), c.count.tolist()) == ([2.0], [2.0], [0.5])
     assert fatigue.equivalent_load([0, 1], [1.0, 3.0], m=2)[2.0] == pytest.approx(2**0.5, rel=1e-15)  # (0.5 * 2^2 / 1)^(1/2)
     assert fatigue.cycles([1.0, 1.0]).range.size == 0
+
+
+# ------------------------------------------------------------- ffr fatigue
+
+
+def ffr_fatigue(ffr_bin, *args, python=sys.executable, env=None, cwd=None):
+    e = dict(os.environ if env is None else env, FFR_PYTHON=python)
+    return subprocess.run(
+        [str(ffr_bin), "fatigue", *map(str, args)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=e,
+        cwd=cwd,
+        timeout=120,
+    )
+
+
+def test_cli_equals_the_function_bit_for_bit_on_a_run(ffr_bin, tmp_path):
+    import json
+
+    from conftest import SCENES, cli
+
+    csv = tmp_path / "arm.csv"
+    cli(ffr_bin, "run", SCENES / "two_link_arm.toml", "--csv", csv, "--svg", tmp_path / "arm.svg")
+    # The CSV read by numpy, not by ffr.fatigue's reader.
+    data = np.genfromtxt(csv, delimiter=",", names=True)
+    t, y = data["t"], data["upper_tip_deflection"]
+    assert t.size > 1000 and np.ptp(y) > 0
+    want = fatigue.equivalent_load(t, y, m=[3, 10], t_eq=0.5)
+    r = ffr_fatigue(ffr_bin, csv, "--column", "upper_tip_deflection", "--m", "3,10", "--t-eq", "0.5", "--json")
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert [(d["m"], d["del"]) for d in out["del"]] == list(want.items())
+    assert out["rows"] == t.size and out["n_eq"] == (t[-1] - t[0]) / 0.5
+    assert all(v > 0 for v in want.values())
+    # The text form prints the same numbers (shortest round-trip repr).
+    r = ffr_fatigue(ffr_bin, csv, "--column", "upper_tip_deflection", "--m", "3,10", "--t-eq", "0.5")
+    assert r.returncode == 0 and r.stderr == ""
+    assert [float(line.split("= ")[1]) for line in r.stdout.splitlines()[1:]] == list(want.values())
+    # The default slopes and t_eq, and --n-eq.
+    r = ffr_fatigue(ffr_bin, csv, "--column", "upper_tip_deflection", "--n-eq", "7", "--json")
+    out = json.loads(r.stdout)
+    assert [(d["m"], d["del"]) for d in out["del"]] == list(fatigue.equivalent_load(t, y, n_eq=7).items())
+
+
+def test_cli_refuses_bad_input_in_one_located_line(ffr_bin, tmp_path):
+    ok = write(tmp_path / "ok.csv", "t,a\n0,1\n1,2\n2,0\n")
+    nan = write(tmp_path / "nan.csv", "t,a\n0,1\n1,NaN\n2,0\n")
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    cases = [
+        ([ok, "--column", "b"], f"error: {ok}:1: no column `b`"),
+        ([nan, "--column", "a"], f"error: {nan}:3: `NaN` in column `a` is not a finite number"),
+        ([fifo, "--column", "a"], f"error: {fifo}: is not a regular file"),
+        ([ok, "--column", "a", "--m", "3,-1"], "error: --m -1 must be a finite number > 0"),
+        ([ok, "--column", "a", "--t-eq", "nan"], "error: --t-eq nan must be"),
+    ]
+    for args, msg in cases:
+        r = ffr_fatigue(ffr_bin, *args)
+        lines = r.stderr.splitlines()
+        assert r.returncode != 0 and r.stdout == "", (args, r.stderr)
+        assert len(lines) == 1 and lines[0].startswith(msg), (args, r.stderr)
+
+
+def test_cli_says_what_to_install(ffr_bin, tmp_path):
+    ok = write(tmp_path / "ok.csv", "t,a\n0,1\n1,2\n2,0\n")
+    # No such interpreter.
+    r = ffr_fatigue(ffr_bin, ok, "--column", "a", python=str(tmp_path / "no-python"))
+    lines = r.stderr.splitlines()
+    assert r.returncode != 0 and len(lines) == 1
+    assert "cannot start Python" in lines[0] and 'pip install "ffr[fatigue]"' in lines[0]
+    # An interpreter that cannot import ffr (a broken `ffr` first on the path).
+    broken = tmp_path / "broken"
+    (broken / "ffr").mkdir(parents=True)
+    (broken / "ffr" / "__init__.py").write_text("raise ModuleNotFoundError(\"No module named 'ffr'\", name='ffr')\n")
+    env = dict(os.environ, PYTHONPATH=str(broken))
+    r = ffr_fatigue(ffr_bin, ok, "--column", "a", env=env)
+    lines = r.stderr.splitlines()
+    assert r.returncode != 0 and len(lines) == 1, r.stderr
+    assert "cannot import (ModuleNotFoundError: No module named 'ffr')" in lines[0]
+    assert 'pip install ./python "rainflow>=3"' in lines[0]
+    # Without rainflow.
+    shadow = tmp_path / "shadow"
+    shadow.mkdir()
+    (shadow / "rainflow.py").write_text("raise ModuleNotFoundError('no', name='rainflow')\n")
+    env = dict(os.environ, PYTHONPATH=str(shadow))
+    r = ffr_fatigue(ffr_bin, ok, "--column", "a", env=env)
+    lines = r.stderr.splitlines()
+    assert r.returncode != 0 and len(lines) == 1 and 'pip install "ffr[fatigue]"' in lines[0], r.stderr
+    # A directory `ffr/` where the command runs does not stand in for the
+    # installed package.
+    (tmp_path / "cwd" / "ffr").mkdir(parents=True)
+    r = ffr_fatigue(ffr_bin, ok, "--column", "a", cwd=tmp_path / "cwd")
+    assert r.returncode == 0 and "DEL(m=3)" in r.stdout, r.stderr
