@@ -398,3 +398,12 @@ def test_cli_says_what_to_install(ffr_bin, tmp_path):
     (tmp_path / "cwd" / "ffr").mkdir(parents=True)
     r = ffr_fatigue(ffr_bin, ok, "--column", "a", cwd=tmp_path / "cwd")
     assert r.returncode == 0 and "DEL(m=3)" in r.stdout, r.stderr
+
+
+def test_read_column_bounds_the_rows(tmp_path, monkeypatch):
+    p = write(tmp_path / "rows.csv", "t,a\n0,1\n1,2\n2,3\n3,4\n")
+    t, y = fatigue.read_column(p, "a")
+    assert t.tolist() == [0, 1, 2, 3] and y.tolist() == [1, 2, 3, 4]
+    monkeypatch.setattr(fatigue, "MAX_CSV_ROWS", 3)
+    with pytest.raises(fatigue.CsvError, match=r"rows.csv:5: more than 3 rows \(MAX_CSV_ROWS\)"):
+        fatigue.read_column(p, "a")
