@@ -10,7 +10,8 @@ The damage-equivalent load (DEL) of a load history ``L(t)`` for an S-N
   a rainflow count finds (ASTM E1049-85, section 5.4.4, by the PyPI package
   ``rainflow``); ``n_i`` is 1 for a full cycle and 0.5 for each half cycle,
   among them the half cycles of the residue (the ranges left unclosed at the
-  end of the history). No mean-stress correction.
+  end of the history). No mean-load correction unless ``ultimate`` is
+  given (Goodman, as MLife: ``S_i (L_ult - |L_MF|) / (L_ult - |mean_i|)``).
 - ``N_eq = T / t_eq``: ``T = t[-1] - t[0]`` the history's duration and
   ``t_eq`` (default 1 s) the period of the equivalent cycle, i.e. an
   equivalent frequency ``f_eq = 1 / t_eq`` of 1 Hz, the convention of
@@ -168,6 +169,8 @@ def equivalent_load(
     m: Union[float, Iterable[float]] = DEFAULT_M,
     t_eq: float = 1.0,
     n_eq: Optional[float] = None,
+    ultimate: Optional[float] = None,
+    fixed_mean: Optional[float] = None,
 ) -> Dict[float, float]:
     """Damage-equivalent loads of ``signal`` sampled at times ``t``.
 
@@ -185,6 +188,13 @@ def equivalent_load(
     t_eq : the equivalent cycle's period (s, finite, > 0).
     n_eq : the number of equivalent cycles (finite, > 0); replaces
         ``T / t_eq``.
+    ultimate : with it, the Goodman mean-load correction of MLife: each
+        range becomes ``S_i (ultimate - |fixed_mean|) / (ultimate -
+        |mean_i|)``, ``mean_i`` the cycle's mean (finite, > 0, larger than
+        every ``|mean_i|`` and ``|fixed_mean|``). Without it (the default),
+        no correction.
+    fixed_mean : the mean load the corrected ranges refer to (default:
+        the mean of the signal's samples); only with ``ultimate``.
 
     Returns
     -------
@@ -215,10 +225,38 @@ def equivalent_load(
     else:
         neq = _positive(n_eq, "n_eq")
     c = cycles(y)
+    if ultimate is not None:
+        c = _goodman(c, y, ultimate, fixed_mean)
+    elif fixed_mean is not None:
+        raise ValueError("fixed_mean is the Goodman correction's reference mean: give ultimate too")
     out: Dict[float, float] = {}
     for mv in ms:
         out[mv] = _del(c, mv, neq)
     return out
+
+
+def _goodman(c: Cycles, y: np.ndarray, ultimate, fixed_mean) -> Cycles:
+    ult = _positive(ultimate, "ultimate")
+    if fixed_mean is None:
+        lmf = float(np.mean(y))
+    else:
+        if isinstance(fixed_mean, bool) or not isinstance(
+            fixed_mean, (int, float, np.integer, np.floating)
+        ):
+            raise TypeError(f"fixed_mean must be a number (got {fixed_mean!r})")
+        lmf = float(fixed_mean)
+        if not math.isfinite(lmf):
+            raise ValueError(f"fixed_mean = {lmf} is not finite")
+    if not abs(lmf) < ult:
+        raise ValueError(f"|fixed_mean| = {abs(lmf)} is not below ultimate = {ult}")
+    if c.mean.size and not float(np.max(np.abs(c.mean))) < ult:
+        i = int(np.argmax(np.abs(c.mean)))
+        raise ValueError(
+            f"a cycle's mean load {c.mean[i]} is not below ultimate = {ult} in magnitude: "
+            "the Goodman correction needs |mean| < ultimate"
+        )
+    scaled = c.range * ((ult - abs(lmf)) / (ult - np.abs(c.mean)))
+    return Cycles(scaled, c.mean, c.count)
 
 
 def _del(c: Cycles, m: float, neq: float) -> float:
@@ -358,6 +396,8 @@ def _parse_args(argv: Sequence[str]):
     p.add_argument("--m", default=",".join(f"{v:g}" for v in DEFAULT_M), help="S-N slopes, comma-separated (default 3,4,10)")
     p.add_argument("--t-eq", default="1", help="the equivalent cycle's period in s (default 1: 1 Hz)")
     p.add_argument("--n-eq", default=None, help="the number of equivalent cycles (instead of T / t_eq)")
+    p.add_argument("--ultimate", default=None, help="the ultimate load: Goodman mean-load correction")
+    p.add_argument("--fixed-mean", default=None, help="the Goodman correction's reference mean (default: the column's mean)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     return p.parse_args(list(argv))
 
@@ -389,9 +429,20 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         ms = [_number(s.strip(), "--m") for s in a.m.split(",")]
         t_eq = _number(a.t_eq, "--t-eq")
         n_eq = None if a.n_eq is None else _number(a.n_eq, "--n-eq")
+        ultimate = None if a.ultimate is None else _number(a.ultimate, "--ultimate")
+        fixed_mean = None
+        if a.fixed_mean is not None:
+            if ultimate is None:
+                raise _Usage("--fixed-mean is the Goodman correction's reference mean: give --ultimate too")
+            try:
+                fixed_mean = float(a.fixed_mean)
+            except ValueError:
+                raise _Usage(f"--fixed-mean `{_snip(a.fixed_mean)}` is not a number") from None
+            if not math.isfinite(fixed_mean):
+                raise _Usage(f"--fixed-mean {_snip(a.fixed_mean)} is not finite")
         _rainflow()
         t, y = read_column(a.csv, a.column)
-        dels = equivalent_load(t, y, m=ms, t_eq=t_eq, n_eq=n_eq)
+        dels = equivalent_load(t, y, m=ms, t_eq=t_eq, n_eq=n_eq, ultimate=ultimate, fixed_mean=fixed_mean)
         neq = n_eq if n_eq is not None else float(t[-1] - t[0]) / t_eq
         if a.json:
             out = {
@@ -401,6 +452,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 "duration": float(t[-1] - t[0]),
                 "t_eq": None if n_eq is not None else t_eq,
                 "n_eq": neq,
+                "ultimate": ultimate,
+                "fixed_mean": (float(np.mean(y)) if fixed_mean is None else fixed_mean) if ultimate else None,
                 "del": [{"m": mv, "del": v} for mv, v in dels.items()],
             }
             print(json.dumps(out))
@@ -408,6 +461,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             print(
                 f"{_snip(a.column, 64)}: {t.size} rows, T = {float(t[-1] - t[0])!r} s, N_eq = {neq!r}"
                 + ("" if n_eq is not None else f" (t_eq = {t_eq!r} s)")
+                + (
+                    ""
+                    if ultimate is None
+                    else f", Goodman: ultimate {ultimate!r}, fixed mean "
+                    f"{(float(np.mean(y)) if fixed_mean is None else fixed_mean)!r}"
+                )
             )
             for mv, v in dels.items():
                 print(f"  DEL(m={mv:g}) = {v!r}")

@@ -407,3 +407,73 @@ def test_read_column_bounds_the_rows(tmp_path, monkeypatch):
     monkeypatch.setattr(fatigue, "MAX_CSV_ROWS", 3)
     with pytest.raises(fatigue.CsvError, match=r"rows.csv:5: more than 3 rows \(MAX_CSV_ROWS\)"):
         fatigue.read_column(p, "a")
+
+
+# ------------------------------------------------------------ Goodman
+
+
+def test_goodman_on_the_astm_example_by_hand():
+    # The ASTM example's cycles with their means, written out from Fig. 6's
+    # reversals A..I (range, mean, count): A-B, B-C, E-F, C-D, D-G, G-H, H-I.
+    table = [(3, -0.5, 0.5), (4, -1, 0.5), (4, 1, 1.0), (8, 1, 0.5), (9, 0.5, 0.5), (8, 0, 0.5), (6, 1, 0.5)]
+    t = np.arange(9.0)
+    ult, lmf = 20.0, 0.25
+    for m in (3.0, 10.0):
+        damage = sum(n * (s * (ult - abs(lmf)) / (ult - abs(mu))) ** m for s, mu, n in table)
+        hand = (damage / 8.0) ** (1 / m)
+        got = fatigue.equivalent_load(t, ASTM_HISTORY, m=m, ultimate=ult, fixed_mean=lmf)[m]
+        assert got == pytest.approx(hand, rel=1e-14, abs=0)
+        # fixed_mean defaults to the samples' mean (-1/9 here).
+        mean = sum(ASTM_HISTORY) / 9
+        damage = sum(n * (s * (ult - abs(mean)) / (ult - abs(mu))) ** m for s, mu, n in table)
+        got = fatigue.equivalent_load(t, ASTM_HISTORY, m=m, ultimate=ult)[m]
+        assert got == pytest.approx((damage / 8.0) ** (1 / m), rel=1e-14, abs=0)
+
+
+def test_goodman_cosine_closed_form():
+    # Every cycle of M + A cos has mean M: with fixed mean 0 the ranges are
+    # 2A L_ult / (L_ult - |M|); with fixed mean M, no change.
+    periods, amp, mean, ult = 6, 1.5, -3.0, 12.0
+    t = np.linspace(0, periods, 64 * periods + 1)
+    y = mean + amp * np.cos(2 * np.pi * t)
+    for m in (3.0, 10.0):
+        got = fatigue.equivalent_load(t, y, m=m, ultimate=ult, fixed_mean=0.0)[m]
+        assert got == pytest.approx(2 * amp * ult / (ult - abs(mean)), rel=1e-14, abs=0)
+        got = fatigue.equivalent_load(t, y, m=m, ultimate=ult, fixed_mean=mean)[m]
+        assert got == 2 * amp
+
+
+@pytest.mark.parametrize(
+    "kw,exc,msg",
+    [
+        ({"ultimate": 0}, ValueError, "ultimate = 0.0"),
+        ({"ultimate": 0.9}, ValueError, "a cycle's mean load -1.0 is not below ultimate = 0.9 in magnitude"),
+        ({"ultimate": 10.0, "fixed_mean": 10.0}, ValueError, "|fixed_mean| = 10.0 is not below"),
+        ({"ultimate": 10.0, "fixed_mean": float("nan")}, ValueError, "fixed_mean = nan"),
+        ({"ultimate": 10.0, "fixed_mean": "0"}, TypeError, "fixed_mean must be a number"),
+        ({"fixed_mean": 1.0}, ValueError, "give ultimate too"),
+    ],
+)
+def test_goodman_refusals(kw, exc, msg):
+    with pytest.raises(exc) as e:
+        fatigue.equivalent_load(np.arange(9.0), ASTM_HISTORY, **kw)
+    assert msg in str(e.value)
+
+
+def test_goodman_on_the_command_line(ffr_bin, tmp_path):
+    import json
+
+    t = np.arange(9.0)
+    p = tmp_path / "astm.csv"
+    p.write_text("t,a\n" + "".join(f"{a!r},{b!r}\n" for a, b in zip(t.tolist(), ASTM_HISTORY)))
+    want = fatigue.equivalent_load(t, ASTM_HISTORY, m=[3, 10], ultimate=20.0, fixed_mean=0.25)
+    for run in (ffr_fatigue, lambda _b, *a: module(*a)):
+        r = run(ffr_bin, p, "--column", "a", "--m", "3,10", "--ultimate", "20", "--fixed-mean", "0.25", "--json")
+        assert r.returncode == 0, r.stderr
+        out = json.loads(r.stdout)
+        assert [(d["m"], d["del"]) for d in out["del"]] == list(want.items())
+        assert (out["ultimate"], out["fixed_mean"]) == (20.0, 0.25)
+    r = ffr_fatigue(ffr_bin, p, "--column", "a", "--fixed-mean", "1")
+    assert r.returncode != 0 and r.stderr.strip() == "error: --fixed-mean is the Goodman correction's reference mean: give --ultimate too"
+    r = ffr_fatigue(ffr_bin, p, "--column", "a", "--ultimate", "0.9")
+    assert r.returncode != 0 and "a cycle's mean load" in r.stderr and len(r.stderr.splitlines()) == 1

@@ -27,6 +27,14 @@ pub struct FatigueArgs {
     /// The number of equivalent cycles N_eq, instead of T / t_eq.
     #[arg(long, allow_hyphen_values = true)]
     pub n_eq: Option<String>,
+    /// The ultimate load: with it, the Goodman mean-load correction of
+    /// MLife, each range times (L_ult − |L_MF|) / (L_ult − |cycle mean|).
+    #[arg(long, allow_hyphen_values = true)]
+    pub ultimate: Option<String>,
+    /// The Goodman correction's reference mean L_MF (default: the column's
+    /// mean; with --ultimate).
+    #[arg(long, allow_hyphen_values = true)]
+    pub fixed_mean: Option<String>,
     /// Print one JSON object (`{"del": [{"m": …, "del": …}, …], …}`).
     #[arg(long)]
     pub json: bool,
@@ -78,6 +86,14 @@ pub fn fatigue(args: &FatigueArgs) -> Result<(), Box<dyn std::error::Error>> {
     if let Some(n) = &args.n_eq {
         argv.push("--n-eq".into());
         argv.push(n.clone().into());
+    }
+    if let Some(u) = &args.ultimate {
+        argv.push("--ultimate".into());
+        argv.push(u.clone().into());
+    }
+    if let Some(f) = &args.fixed_mean {
+        argv.push("--fixed-mean".into());
+        argv.push(f.clone().into());
     }
     if args.json {
         argv.push("--json".into());
