@@ -1010,3 +1010,29 @@ drive = { angle = "spin-up", omega = 4.0, ramp = 15.0 }
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `ffr fatigue` runs Python's `ffr.fatigue`; without an interpreter it
+/// says in one line what to install and exits non-zero (the numbers and
+/// the CSV's refusals are tested with Python, python/tests/test_fatigue.py).
+#[test]
+fn fatigue_without_python_says_what_to_install() {
+    let (ok, out, err) = ffr(&[
+        "fatigue",
+        "results/none.csv",
+        "--column",
+        "a",
+        "--python",
+        "/nonexistent/python3",
+    ]);
+    assert!(!ok && out.is_empty(), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("error: cannot start Python `/nonexistent/python3` for `ffr fatigue`")
+            && err.contains("pip install \"ffr[fatigue]\"")
+            && err.contains("FFR_PYTHON"),
+        "{err}"
+    );
+    // --column is required (clap's own error).
+    let (ok, _, err) = ffr(&["fatigue", "results/none.csv"]);
+    assert!(!ok && err.contains("--column"), "{err}");
+}

@@ -3,6 +3,7 @@
 
 mod args;
 mod emit;
+mod fatigue;
 mod invariants;
 mod linearize;
 mod modes;
@@ -13,6 +14,7 @@ mod statics;
 pub use args::{
     BodyArgs, ExportFormat, IntegratorKind, KernelArgs, ParamArgs, ReductionKind, SceneBodyArgs,
 };
+pub use fatigue::{fatigue, FatigueArgs};
 pub use invariants::invariants_json;
 pub use linearize::{
     campbell, campbell_json, campbell_svg, linear_json, linearize, matrix_market, CampbellArgs,
@@ -137,6 +139,11 @@ pub enum Command {
     /// Stiff and extreme cases, each with its check (stability.md; exits
     /// non-zero if a case fails; see docs/stability.md).
     Stability(crate::stability::StabilityArgs),
+    /// Damage-equivalent loads of a column of a `ffr run --csv` file
+    /// (rainflow counting, ASTM E1049-85; DEL_m = (Σ n_i S_i^m / N_eq)^(1/m),
+    /// N_eq = T / t_eq), by the Python package's `ffr.fatigue` (needs
+    /// Python with `ffr` and `rainflow`); see docs/fatigue.md.
+    Fatigue(FatigueArgs),
     /// Run a scene file.
     Run {
         /// The scene file (TOML; see the README's "Scene files").
@@ -331,6 +338,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
         Some(Command::Sweep(args)) => crate::sweep::run(&args).map(|_| ()),
         Some(Command::Stability(args)) => crate::stability::run(&args).map(|_| ()),
+        Some(Command::Fatigue(args)) => fatigue(&args),
         Some(Command::Run {
             scene,
             csv,
