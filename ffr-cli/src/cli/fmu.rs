@@ -313,10 +313,7 @@ type Layout = (String, Vec<(PathBuf, String)>);
 /// it climbs (named as on disk), so that it reads the same from there. An
 /// absolute path the scene names is refused (the FMU would read the
 /// machine's file, not its own).
-fn layout(
-    scene: &Path,
-    files: &[PathBuf],
-) -> Result<Layout, Box<dyn Error>> {
+fn layout(scene: &Path, files: &[PathBuf]) -> Result<Layout, Box<dyn Error>> {
     let dir = scene.parent().map(Path::to_path_buf).unwrap_or_default();
     // Each file relative to the scene's directory, lexically normalized.
     let mut rels: Vec<(PathBuf, Vec<String>, usize)> = Vec::new();
