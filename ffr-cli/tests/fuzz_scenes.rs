@@ -7,7 +7,8 @@
 //! `x = …` or points, profile and kind names, control characters); a line
 //! deleted, duplicated or moved; an unknown or misplaced key inserted
 //! (`rate`, `alpha`, `slide`, `at`, `component`, `rho_inf`, a force
-//! `profile`, a marker table with `axes`, …); a body
+//! `profile`, a marker table with `axes`, `[[inputs]]` tables and their
+//! keys, …); a body
 //! moved off its joint. `t_end` is then cut to at most 200 steps (and
 //! elements to at most 32) so that a case runs in well under a second.
 //!
@@ -17,7 +18,10 @@
 //!   reason is given), or a run whose every output is finite at every step
 //!   and that reached `t_end`, every deflection within twice its body's
 //!   length (the divergence monitor's bound);
-//! - at most [`MAX_LIVE_BYTES`] of heap live at any time.
+//! - at most [`MAX_LIVE_BYTES`] of heap live at any time;
+//! - a scene with inputs also steps through `ffr::scene::Simulation` with
+//!   huge, tiny and non-finite input values, then restores its first
+//!   state: errors with messages, no panic.
 //!
 //! `cargo test --test fuzz_scenes` runs [`DEFAULT_CASES`] cases with a fixed
 //! seed; more with `FFR_FUZZ_CASES=5000 [FFR_FUZZ_SEED=7] cargo test
@@ -68,7 +72,7 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static A: Counting = Counting;
 
-const SCENES: [&str; 9] = [
+const SCENES: [&str; 10] = [
     "spin_up.toml",
     "spin_up_modal.toml",
     "precone.toml",
@@ -78,6 +82,7 @@ const SCENES: [&str; 9] = [
     "two_link_arm.toml",
     "boom_payload.toml",
     "l_frame.toml",
+    "two_link_arm_inputs.toml",
 ];
 
 /// Byte ranges `(start, end)` of tokens in a text.
@@ -185,6 +190,8 @@ fn mutate(rng: &mut TestRng, text: &str) -> String {
                             "energy",
                             "angle",
                             "work",
+                            "drive-acceleration",
+                            "force",
                         ],
                     )
                     .to_string(),
@@ -233,6 +240,15 @@ fn mutate(rng: &mut TestRng, text: &str) -> String {
                         "profile = { kind = \"harmonic\", amplitude = 1.0, frequency = 2.0 }",
                         "profile = { table = [[0.0, 0.0], [0.05, 1.0]] }",
                         "b = { at = \"leg1@x=1.0\", axes = { angle = 0.5 } }",
+                        "joint = 1",
+                        "joint = 3",
+                        "direction = [0.0, 1e300]",
+                        "kind = \"drive-acceleration\"",
+                        "kind = \"torque\"",
+                        "start = 1e9",
+                        "axes = \"body\"",
+                        "[[inputs]]\nname = \"u\"\nkind = \"drive-acceleration\"\njoint = 1",
+                        "[[inputs]]\nname = \"u\"\nkind = \"torque\"\njoint = 1\nstart = 0.1",
                     ],
                 );
                 let lines: Vec<&str> = t.lines().collect();
@@ -362,6 +378,28 @@ fn check(text: &str, base: &Path) -> Result<&'static str, String> {
         if let Some(v) = col.iter().find(|v| !v.is_finite()) {
             return Err(format!("run succeeded with output `{name}` = {v}"));
         }
+    }
+    // The stepping API on the same scene: inputs set to huge, tiny and
+    // non-finite values, a few steps, save and restore: errors, no panic.
+    if !scene.inputs.is_empty() {
+        let mut sim = match scene::Simulation::new(std::sync::Arc::new(
+            scene::from_str(text, "fuzz.toml", base, &DefaultKernels).expect("loaded once"),
+        )) {
+            Ok(s) => s,
+            Err(_) => return Ok("failed"),
+        };
+        let saved = sim.save_state();
+        for (k, v) in [1e300, f64::NAN, -0.5, 1e-300].into_iter().enumerate() {
+            let _ = sim.set_input_at(k % scene.inputs.len(), v);
+            if sim.step().is_err() {
+                if sim.failed().is_none_or(str::is_empty) {
+                    return Err("a failed step without a message".into());
+                }
+                break;
+            }
+        }
+        sim.restore_state(&saved)
+            .map_err(|e| format!("restore refused: {e}"))?;
     }
     let t_last = run.t.last().copied().unwrap_or(f64::NAN);
     if !((t_last - scene.t_end).abs() <= 1e-9 * scene.t_end.max(1.0)) {

@@ -1,6 +1,8 @@
-//! No heap allocation in `Simulation::step` (and reading the outputs)
-//! after a warm-up: a counting global allocator over 100 steps of the
-//! spin-up and of the flexible two-link arm.
+//! No heap allocation in `Simulation::step` (and reading the outputs,
+//! setting inputs by index) after a warm-up: a counting global allocator
+//! over 100 steps of the spin-up and of the flexible two-link arm, also
+//! with inputs (a drive-acceleration input set at every step, a torque
+//! input from a profile table, a force input).
 
 use ffr::scene::Simulation;
 use std::alloc::{GlobalAlloc, Layout, System as Sys};
@@ -38,15 +40,33 @@ fn count() -> usize {
 #[test]
 fn simulation_steps_allocate_nothing() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
-    for name in ["spin_up.toml", "two_link_arm.toml"] {
-        let scene = Arc::new(ffr::scene::load(&dir.join(name)).unwrap());
-        let mut sim = Simulation::new(scene).unwrap();
+    let spin = std::fs::read_to_string(dir.join("spin_up.toml")).unwrap()
+        + "\n[[inputs]]\nname = \"hub_acc\"\nkind = \"drive-acceleration\"\njoint = 1\n";
+    let arm = std::fs::read_to_string(dir.join("two_link_arm.toml")).unwrap()
+        + "\n[[inputs]]\nname = \"tau\"\nkind = \"torque\"\njoint = 3\nprofile = { table = [[0.0, 0.0], [0.2, 0.1]] }\n\n[[inputs]]\nname = \"push\"\nkind = \"force\"\nat = \"forearm@x=0.4\"\ndirection = [0.0, 1.0]\naxes = \"body\"\n";
+    let texts = [
+        ("spin_up.toml", None),
+        ("two_link_arm.toml", None),
+        ("spin_up + input", Some(spin)),
+        ("two_link_arm + inputs", Some(arm)),
+    ];
+    for (name, text) in texts {
+        let scene = match text {
+            None => ffr::scene::load(&dir.join(name)).unwrap(),
+            Some(t) => ffr::scene::from_str(&t, name, &dir, &ffr::scene::DefaultKernels).unwrap(),
+        };
+        let mut sim = Simulation::new(Arc::new(scene)).unwrap();
+        let n_inputs = sim.input_names().len();
         for _ in 0..20 {
             sim.step().unwrap();
         }
         let mut sum = 0.0;
         let before = count();
-        for _ in 0..100 {
+        for k in 0..100 {
+            if n_inputs > 0 {
+                let last = n_inputs - 1;
+                sim.set_input_at(last, 0.01 * (k % 5) as f64).unwrap();
+            }
             sim.step().unwrap();
             sum += sim.outputs().iter().sum::<f64>();
         }

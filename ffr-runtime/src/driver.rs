@@ -4,12 +4,20 @@ use std::f64::consts::PI;
 use std::fmt;
 use std::sync::Arc;
 
-/// A prescribed function of time returning `[f, ḟ, f̈]`.
+/// A map of `[f, ḟ, f̈]` (the chain rule of [`Driver::map`]).
+type Post = Arc<dyn Fn([f64; 3]) -> [f64; 3] + Send + Sync>;
+
+/// A prescribed function of time returning `[f, ḟ, f̈]`: a base function,
+/// optionally perturbed by an input's drive perturbation `δ` (added to the
+/// base, [`Driver::with_input`]), then mapped ([`Driver::map`]).
 #[derive(Clone)]
 pub struct Driver {
     f: Arc<dyn Fn(f64) -> [f64; 3] + Send + Sync>,
+    post: Option<Post>,
     /// Known to have `f̈ ≡ 0` (constant or linear).
     uniform: bool,
+    /// The input whose perturbation `[δ, δ̇, δ̈]` is added to the base.
+    input: Option<usize>,
 }
 
 impl fmt::Debug for Driver {
@@ -23,7 +31,9 @@ impl Driver {
     pub fn new(f: impl Fn(f64) -> [f64; 3] + Send + Sync + 'static) -> Self {
         Self {
             f: Arc::new(f),
+            post: None,
             uniform: false,
+            input: None,
         }
     }
     /// `f(t) = c`.
@@ -79,15 +89,53 @@ impl Driver {
             ]
         })
     }
-    /// `[f(t), ḟ(t), f̈(t)]`.
+    /// `[f(t), ḟ(t), f̈(t)]` (unperturbed).
     pub fn eval(&self, t: f64) -> [f64; 3] {
-        (self.f)(t)
+        match &self.post {
+            None => (self.f)(t),
+            Some(p) => p((self.f)(t)),
+        }
+    }
+    /// `[f, ḟ, f̈]` at `t` with the perturbation `d = [δ, δ̇, δ̈]` added to
+    /// the base function before the map.
+    pub fn eval_perturbed(&self, t: f64, d: [f64; 3]) -> [f64; 3] {
+        let [f, fd, fdd] = (self.f)(t);
+        let x = [f + d[0], fd + d[1], fdd + d[2]];
+        match &self.post {
+            None => x,
+            Some(p) => p(x),
+        }
+    }
+    /// The input whose drive perturbation this driver takes, if any.
+    pub fn input(&self) -> Option<usize> {
+        self.input
+    }
+    /// This driver perturbed by input `k`'s drive perturbation `δ(t)`
+    /// (`δ̈` = the input's value, held over each step; the assembly
+    /// integrates `δ` and `δ̇`). Not uniform any more.
+    pub fn with_input(&self, k: usize) -> Self {
+        Self {
+            uniform: false,
+            input: Some(k),
+            ..self.clone()
+        }
     }
     /// `g([f, ḟ, f̈])`: a new driver from this one's value and derivatives
     /// (the caller supplies the chain rule).
     pub fn map(&self, g: impl Fn([f64; 3]) -> [f64; 3] + Send + Sync + 'static) -> Self {
-        let f = self.f.clone();
-        Self::new(move |t| g(f(t)))
+        let post: Post = match &self.post {
+            None => Arc::new(g),
+            Some(p) => {
+                let p = p.clone();
+                Arc::new(move |x| g(p(x)))
+            }
+        };
+        Self {
+            f: self.f.clone(),
+            post: Some(post),
+            uniform: false,
+            input: self.input,
+        }
     }
 }
 

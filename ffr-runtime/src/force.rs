@@ -22,6 +22,9 @@ pub type VectorFn = Arc<dyn Fn(f64) -> Vector3<f64> + Send + Sync>;
 pub enum TorqueLaw {
     /// `τ = τ(t)` (a motor torque).
     Torque(Arc<dyn Fn(f64) -> f64 + Send + Sync>),
+    /// `τ = u_k`: the value of the system's input `k` (held over a step;
+    /// [`crate::System::add_input`]).
+    Input(usize),
     /// `τ = −k (φ − φ₀) − c φ̇` (a rotational spring–damper; the angle
     /// difference is taken in `(−π, π]`).
     SpringDamper {
@@ -75,6 +78,18 @@ pub enum ForceElement {
         /// The law.
         law: TorqueLaw,
     },
+    /// A force `u_k d` at a marker: the value of the system's input `k`
+    /// times a fixed direction `d` (global or marker axes).
+    Input {
+        /// Where it acts.
+        marker: Marker,
+        /// The direction `d` (the force per unit input).
+        direction: Vector3<f64>,
+        /// The axes `d` is given in.
+        axes: ForceAxes,
+        /// The input.
+        input: usize,
+    },
     /// A linear spring–damper along the line of two markers: tension
     /// `f = k (l − l₀) + c l̇`, force `f e` on `a` and `−f e` on `b`, `e = (p_b − p_a)/l`.
     SpringDamper {
@@ -98,6 +113,12 @@ impl fmt::Debug for ForceElement {
                 write!(f, "Point({:?}, {axes:?})", marker.body)
             }
             ForceElement::Torque { a, b, .. } => write!(f, "Torque({:?}, {:?})", a.body, b.body),
+            ForceElement::Input {
+                marker,
+                axes,
+                input,
+                ..
+            } => write!(f, "Input({:?}, {axes:?}, input {input})", marker.body),
             ForceElement::SpringDamper {
                 a,
                 b,
@@ -117,7 +138,9 @@ impl ForceElement {
     /// The markers it acts at: the first, and the second if it has one.
     pub fn markers(&self) -> (&Marker, Option<&Marker>) {
         match self {
-            ForceElement::Point { marker, .. } => (marker, None),
+            ForceElement::Point { marker, .. } | ForceElement::Input { marker, .. } => {
+                (marker, None)
+            }
             ForceElement::SpringDamper { a, b, .. } | ForceElement::Torque { a, b, .. } => {
                 (a, Some(b))
             }
@@ -184,7 +207,9 @@ impl ForceEval {
     }
 
     /// Evaluate `fe` with marker kinematics `ka` (and `kb`), local velocities
-    /// `qd`; with `gp = Some(γ')` also the tangent.
+    /// `qd`, the system's input values `inputs`; with `gp = Some(γ')` also
+    /// the tangent.
+    #[allow(clippy::too_many_arguments)]
     pub fn eval(
         &mut self,
         fe: &ForceElement,
@@ -193,6 +218,7 @@ impl ForceEval {
         t: f64,
         qd: &[f64],
         gp: Option<f64>,
+        inputs: &[f64],
     ) {
         let n = self.q.len();
         self.q.iter_mut().for_each(|x| *x = 0.0);
@@ -201,9 +227,19 @@ impl ForceEval {
         if gp.is_some() {
             self.k.iter_mut().for_each(|x| *x = 0.0);
         }
+        let point = match fe {
+            ForceElement::Point { force, axes, .. } => Some((force(t), axes)),
+            ForceElement::Input {
+                direction,
+                axes,
+                input,
+                ..
+            } => Some((direction * inputs[*input], axes)),
+            _ => None,
+        };
         match fe {
-            ForceElement::Point { force, axes, .. } => {
-                let f_loc = force(t);
+            ForceElement::Point { .. } | ForceElement::Input { .. } => {
+                let (f_loc, axes) = point.expect("a point force");
                 let f = match axes {
                     ForceAxes::Global => f_loc,
                     ForceAxes::Marker => {
@@ -245,6 +281,7 @@ impl ForceEval {
                 self.rate = phid;
                 let (tau, dtau_dphi, dtau_dphid) = match law {
                     TorqueLaw::Torque(f) => (f(t), 0.0, 0.0),
+                    TorqueLaw::Input(k) => (inputs[*k], 0.0, 0.0),
                     TorqueLaw::SpringDamper {
                         stiffness,
                         damping,

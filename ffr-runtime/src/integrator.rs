@@ -279,6 +279,8 @@ pub fn check_settings(t_end: f64, dt: f64, integrator: &Integrator) -> Result<()
 pub struct Stepper<'s, B: Body> {
     asm: Assembly<'s, B>,
     integrator: Integrator,
+    /// The end time the monitor's energy floor is scaled with.
+    t_end: f64,
     w: Work,
     state: State,
     watch: Option<crate::monitor::Watch>,
@@ -298,6 +300,7 @@ pub struct StepperState {
     state: State,
     solver: crate::linalg::BorderedSystem,
     inputs: Vec<f64>,
+    drives: Vec<[f64; 3]>,
     watch: Option<crate::monitor::WatchState>,
     rotations: Vec<crate::monitor::ElasticRotation>,
     summary: Summary,
@@ -325,6 +328,59 @@ impl StepperState {
     }
 }
 
+/// A summary with no steps (and empty `last`, `rotations`).
+fn empty_summary() -> Summary {
+    Summary {
+        steps: 0,
+        last: State {
+            t: 0.0,
+            q: Vec::new(),
+            v: Vec::new(),
+            a: Vec::new(),
+            lambda: Vec::new(),
+        },
+        stopped: false,
+        newton_iterations: 0,
+        jacobians: 0,
+        restarts: 0,
+        splits: 0,
+        rotations: Vec::new(),
+    }
+}
+
+/// The consistent initial state of `asm`'s system at `t = 0` (checked),
+/// the integrator's work space, the monitor and the rotation tracker.
+#[allow(clippy::type_complexity)]
+fn start<B: Body>(
+    asm: &mut Assembly<'_, B>,
+    t_end: f64,
+) -> Result<(
+    Work,
+    State,
+    Option<crate::monitor::Watch>,
+    crate::monitor::Rotations,
+)> {
+    let sys = asm.sys;
+    let mut w = Work::new(asm);
+    let state = initial_state(asm, &mut w.lin, 0.0)?;
+    w.acc.copy_from_slice(&state.a);
+    // The initial state passes the validity check every later state
+    // passes (a body started at 1.8e308 m/s has an infinite energy: it
+    // ran until the energy monitor reported NaN J "gained from nowhere").
+    if sys.monitor.enabled {
+        crate::monitor::check_state(sys, &state.q, &state.v)
+            .map_err(|why| Error::InvalidInput(format!("the initial state is not valid: {why}")))?;
+    }
+    let watch = if sys.monitor.enabled {
+        Some(crate::monitor::Watch::new(asm, sys.monitor, &state, t_end)?)
+    } else {
+        None
+    };
+    let mut rotations = crate::monitor::Rotations::new(sys)?;
+    rotations.observe(state.t, &state.q);
+    Ok((w, state, watch, rotations))
+}
+
 impl<'s, B: Body> Stepper<'s, B> {
     /// The consistent initial state of `sys` at `t = 0`, checked as
     /// [`System::simulate`] checks it, ready to step with `integrator`.
@@ -333,55 +389,47 @@ impl<'s, B: Body> Stepper<'s, B> {
     pub fn new(sys: &'s System<B>, t_end: f64, integrator: &Integrator) -> Result<Self> {
         check_settings(t_end, 1.0, integrator)?;
         let mut asm = Assembly::new(sys)?;
-        let mut w = Work::new(&asm);
-        let state = initial_state(&mut asm, &mut w.lin, 0.0)?;
-        w.acc.copy_from_slice(&state.a);
-        // The initial state passes the validity check every later state
-        // passes (a body started at 1.8e308 m/s has an infinite energy: it
-        // ran until the energy monitor reported NaN J "gained from nowhere").
-        if sys.monitor.enabled {
-            crate::monitor::check_state(sys, &state.q, &state.v).map_err(|why| {
-                Error::InvalidInput(format!("the initial state is not valid: {why}"))
-            })?;
-        }
-        let watch = if sys.monitor.enabled {
-            Some(crate::monitor::Watch::new(
-                &mut asm,
-                sys.monitor,
-                &state,
-                t_end,
-            )?)
-        } else {
-            None
-        };
-        let mut rotations = crate::monitor::Rotations::new(sys)?;
-        rotations.observe(state.t, &state.q);
-        let summary = Summary {
-            steps: 0,
-            last: State {
-                t: 0.0,
-                q: Vec::new(),
-                v: Vec::new(),
-                a: Vec::new(),
-                lambda: Vec::new(),
-            },
-            stopped: false,
-            newton_iterations: 0,
-            jacobians: 0,
-            restarts: 0,
-            splits: 0,
-            rotations: Vec::new(),
-        };
+        let (w, state, watch, rotations) = start(&mut asm, t_end)?;
         Ok(Self {
             asm,
             integrator: *integrator,
+            t_end,
             w,
             state,
             watch,
             rotations,
-            summary,
+            summary: empty_summary(),
             iterations: 0,
         })
+    }
+
+    /// Start again from the consistent initial state at `t = 0` with the
+    /// inputs' current values (their drive perturbations at rest): what
+    /// setting an input before the first step means. An error (the initial
+    /// state with these values is refused) leaves the stepper unchanged.
+    pub fn restart(&mut self) -> Result<()> {
+        let drives = self.asm.drive_states().to_vec();
+        self.asm
+            .drive_states_mut()
+            .iter_mut()
+            .for_each(|d| *d = [0.0; 3]);
+        self.asm.sync_inputs();
+        match start(&mut self.asm, self.t_end) {
+            Ok((w, state, watch, rotations)) => {
+                self.w = w;
+                self.state = state;
+                self.watch = watch;
+                self.rotations = rotations;
+                self.summary = empty_summary();
+                self.iterations = 0;
+                Ok(())
+            }
+            Err(e) => {
+                self.asm.drive_states_mut().copy_from_slice(&drives);
+                self.asm.sync_inputs();
+                Err(e)
+            }
+        }
     }
 
     /// One step of length `h` from [`Stepper::state`] (the time after it is
@@ -428,6 +476,7 @@ impl<'s, B: Body> Stepper<'s, B> {
                 0
             }
         };
+        self.asm.advance_drive_perturbations(self.state.t);
         self.iterations = iters;
         self.summary.newton_iterations += iters;
         self.summary.steps = step + 1;
@@ -456,6 +505,7 @@ impl<'s, B: Body> Stepper<'s, B> {
     /// Set input `k` to `value` from the next step on.
     pub fn set_input(&mut self, k: usize, value: f64) {
         self.asm.inputs_mut()[k] = value;
+        self.asm.sync_inputs();
     }
 
     /// The state and the assembled equations at once.
@@ -508,6 +558,7 @@ impl<'s, B: Body> Stepper<'s, B> {
             state: self.state.clone(),
             solver: self.asm.solver.clone(),
             inputs: self.asm.inputs().to_vec(),
+            drives: self.asm.drive_states().to_vec(),
             watch: self.watch.as_ref().map(|w| w.save()),
             rotations: self.rotations.max.clone(),
             summary: self.summary.clone(),
@@ -533,6 +584,8 @@ impl<'s, B: Body> Stepper<'s, B> {
         self.state.clone_from(&s.state);
         self.asm.solver.clone_from(&s.solver);
         self.asm.inputs_mut().copy_from_slice(&s.inputs);
+        self.asm.drive_states_mut().copy_from_slice(&s.drives);
+        self.asm.sync_inputs();
         if let (Some(w), Some(saved)) = (&mut self.watch, &s.watch) {
             w.restore(saved);
         }

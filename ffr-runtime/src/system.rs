@@ -115,6 +115,8 @@ pub struct System<B: Body = Box<dyn Body>> {
     pub(crate) monitor: crate::monitor::Monitor,
     /// Bodies run as segments ([`System::add_segments`]).
     pub(crate) segments: Vec<crate::segmented::SegmentGroup>,
+    /// The start values of the inputs ([`System::add_input`]).
+    pub(crate) inputs: Vec<f64>,
 }
 
 impl<B: Body> System<B> {
@@ -140,7 +142,37 @@ impl<B: Body> System<B> {
             gravity: Vector3::zeros(),
             monitor: crate::monitor::Monitor::default(),
             segments: Vec::new(),
+            inputs: Vec::new(),
         }
+    }
+
+    /// A new input with value `start` until a caller sets another
+    /// ([`crate::Assembly::inputs_mut`], [`crate::Stepper::set_input`]):
+    /// its index, for [`TorqueLaw::Input`], [`ForceElement::Input`] and
+    /// [`Driver::with_input`]. Each integration holds its own values.
+    pub fn add_input(&mut self, start: f64) -> Result<usize> {
+        if !start.is_finite() {
+            return Err(Error::InvalidInput(format!(
+                "an input's start value must be finite (got {start})"
+            )));
+        }
+        self.inputs.push(start);
+        Ok(self.inputs.len() - 1)
+    }
+
+    /// The number of inputs.
+    pub fn n_inputs(&self) -> usize {
+        self.inputs.len()
+    }
+
+    fn check_input(&self, k: usize) -> Result<()> {
+        if k >= self.inputs.len() {
+            return Err(Error::InvalidInput(format!(
+                "input {k} does not exist (the system has {} inputs)",
+                self.inputs.len()
+            )));
+        }
+        Ok(())
     }
 
     /// The divergence monitor's bounds ([`crate::monitor`]; on by default).
@@ -495,6 +527,9 @@ impl<B: Body> System<B> {
         index: usize,
         driver: Driver,
     ) -> Result<()> {
+        if let Some(k) = driver.input() {
+            self.check_input(k)?;
+        }
         let e = self.entry(body)?;
         if index >= e.n_coords() {
             return Err(Error::InvalidInput(format!(
@@ -648,6 +683,24 @@ impl<B: Body> System<B> {
         self.check_marker(ma)?;
         if let Some(mb) = mb {
             self.check_marker(mb)?;
+        }
+        match &f {
+            ForceElement::Input {
+                direction, input, ..
+            } => {
+                self.check_input(*input)?;
+                if !(direction.iter().all(|x| x.is_finite()) && direction.norm() > 0.0) {
+                    return Err(Error::InvalidInput(format!(
+                        "an input force's direction must be finite and not zero (got {:?})",
+                        direction.as_slice()
+                    )));
+                }
+            }
+            ForceElement::Torque {
+                law: TorqueLaw::Input(k),
+                ..
+            } => self.check_input(*k)?,
+            _ => {}
         }
         if let ForceElement::SpringDamper {
             stiffness,

@@ -44,6 +44,51 @@ pub struct SceneSpec {
     pub forces: Vec<ForceSpec>,
     /// The output columns after `t`, in file order.
     pub outputs: Vec<OutputSpec>,
+    /// The named inputs (`[[inputs]]`), in file order.
+    pub inputs: Vec<InputSpec>,
+}
+
+/// What a named input does.
+#[derive(Clone, Debug, PartialEq)]
+pub enum InputKind {
+    /// A torque `u` (N m) in revolute joint `joint` (0-based in
+    /// `[[joints]]`) about its axis: on its marker `b`, `−u` on `a`.
+    Torque {
+        /// The joint (0-based).
+        joint: usize,
+    },
+    /// A force `u d` (N) at a marker along `direction` `d` as given (not
+    /// normalized), in global axes or (`follower`) the body's.
+    Force {
+        /// Where it acts.
+        at: MarkerSpec,
+        /// The force per unit input (zero-padded).
+        direction: [f64; 3],
+        /// In the body's axes.
+        follower: bool,
+    },
+    /// An acceleration `u` (rad/s², m/s²) added to joint `joint`'s drive:
+    /// `φ = φ_drive(t) + δ(t)`, `δ̈ = u` held over each step.
+    DriveAcceleration {
+        /// The joint (0-based).
+        joint: usize,
+    },
+}
+
+/// A named input (`[[inputs]]`): a value a caller sets between steps,
+/// held over each step (zero-order hold).
+#[derive(Clone, Debug, PartialEq)]
+pub struct InputSpec {
+    /// Its name.
+    pub name: String,
+    /// What it does.
+    pub kind: InputKind,
+    /// Its value until a caller or the profile sets another.
+    pub start: f64,
+    /// Its value at each step's start when no caller sets it.
+    pub profile: Option<ForceProfile>,
+    /// Where its table is.
+    pub at: Location,
 }
 
 /// The integrator; a setting left out keeps the runtime's default.

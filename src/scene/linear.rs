@@ -13,7 +13,12 @@
 //!   stiffness; the run's own force is `u(t) = f(t) |force|`;
 //!   `driveN`: the acceleration (rad/s², m/s²) of a perturbation of joint
 //!   `N`'s drive, whose angle (or slide) and rate become states.
-//!   By default every joint with a motor and every point force and torque.
+//!   The scene's named inputs (`[[inputs]]`) by name: a `torque` input is
+//!   its joint's `jointN`, a `drive-acceleration` input its joint's
+//!   `driveN`, a `force` input the force along its `direction` as given
+//!   (`∂Q/∂u`, not normalized).
+//!   By default every joint with a motor, every point force and torque, and
+//!   the named inputs.
 //! - Outputs: the scene's `[[outputs]]` by name; by default all but the
 //!   energies (which are not linear outputs).
 //! - The state: the scene's at time `T` (run to `T` with its integrator,
@@ -64,7 +69,19 @@ pub fn default_inputs(spec: &SceneSpec) -> Vec<String> {
             .filter(|(_, f)| matches!(f.kind, ForceKind::Point { .. } | ForceKind::Torque { .. }))
             .map(|(i, _)| format!("force{}", i + 1)),
     );
+    out.extend(spec.inputs.iter().map(|i| i.name.clone()));
     out
+}
+
+/// The `jointN` or `driveN` name of a named torque or drive-acceleration
+/// input, the name itself otherwise.
+fn canonical<'a>(spec: &SceneSpec, name: &'a str) -> std::borrow::Cow<'a, str> {
+    use crate::runtime::spec::scene::InputKind;
+    match spec.inputs.iter().find(|i| i.name == name).map(|i| &i.kind) {
+        Some(InputKind::Torque { joint }) => format!("joint{}", joint + 1).into(),
+        Some(InputKind::DriveAcceleration { joint }) => format!("drive{}", joint + 1).into(),
+        _ => name.into(),
+    }
 }
 
 fn index_of(name: &str, prefix: &str) -> Option<usize> {
@@ -83,10 +100,30 @@ pub fn inputs(
     let sys = &scene.system;
     let avail = || default_inputs(spec).join(", ");
     let mut out = Vec::new();
-    for name in names {
+    for given in names {
+        let name = &*canonical(spec, given);
         // User text in messages: escaped and cut.
-        let qn = crate::runtime::spec::text::quoted(name);
-        let load = if let Some(k) = index_of(name, "drive") {
+        let qn = crate::runtime::spec::text::quoted(given);
+        let named_force = spec.inputs.iter().find_map(|i| match &i.kind {
+            crate::runtime::spec::scene::InputKind::Force {
+                at,
+                direction,
+                follower,
+            } if i.name == *given => Some((at, *direction, *follower)),
+            _ => None,
+        });
+        let load = if let Some((at, direction, follower)) = named_force {
+            let d = Vector3::from(direction);
+            InputLoad::Force(Box::new(ForceElement::Point {
+                marker: super::build::marker(sys, at)?,
+                force: Arc::new(move |_| d),
+                axes: if follower {
+                    ForceAxes::Marker
+                } else {
+                    ForceAxes::Global
+                },
+            }))
+        } else if let Some(k) = index_of(name, "drive") {
             let j = spec.joints.get(k - 1).ok_or_else(|| {
                 format!("input `{qn}`: the scene has {} joints", spec.joints.len())
             })?;
@@ -164,13 +201,13 @@ pub fn inputs(
             }))
         } else {
             return Err(format!(
-                "unknown input `{qn}`: inputs are `jointN` (a torque in revolute joint N), `forceN` (the amplitude of force N) and `driveN` (the acceleration of joint N's drive); this scene's defaults are: {}",
+                "unknown input `{qn}`: inputs are the scene's [[inputs]] by name, `jointN` (a torque in revolute joint N), `forceN` (the amplitude of force N) and `driveN` (the acceleration of joint N's drive); this scene's defaults are: {}",
                 avail()
             )
             .into());
         };
         out.push(LinearInput {
-            name: name.clone(),
+            name: given.clone(),
             load,
         });
     }
@@ -358,7 +395,7 @@ pub fn linearize_scene_interruptible(
     let names = input_names.unwrap_or(&default_in);
     let mut spec = spec.clone();
     for n in names {
-        if let Some(k) = index_of(n, "drive") {
+        if let Some(k) = index_of(&canonical(&spec, n), "drive") {
             let Some(j) = spec.joints.get_mut(k - 1) else {
                 continue;
             };

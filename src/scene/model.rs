@@ -20,13 +20,28 @@ pub struct Output {
 
 /// A named input of a scene (`[[inputs]]`): a value a caller sets between
 /// steps ([`super::Simulation::set_input`]), held constant over each step.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 #[non_exhaustive]
 pub struct Input {
     /// Its name.
     pub name: String,
-    /// Its value before a caller or a profile sets another.
+    /// Its value at `t = 0` (the profile's there, if it has one).
     pub start: f64,
+    /// What it does.
+    pub kind: crate::runtime::spec::scene::InputKind,
+    /// Its value at each step's start when no caller has set it (`profile`).
+    pub profile: Option<std::sync::Arc<dyn Fn(f64) -> f64 + Send + Sync>>,
+}
+
+impl std::fmt::Debug for Input {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Input")
+            .field("name", &self.name)
+            .field("start", &self.start)
+            .field("kind", &self.kind)
+            .field("profile", &self.profile.is_some())
+            .finish()
+    }
 }
 
 /// A loaded scene, ready to run.

@@ -37,6 +37,8 @@ pub(super) struct Stepping<'s> {
     dissipated: f64,
     /// The last sample's powers and time.
     last_power: Option<(f64, Power)>,
+    /// Per input: set by a caller (its profile no longer applies).
+    overridden: Vec<bool>,
 }
 
 /// What [`Stepping`] keeps beyond its stepper, saved with it.
@@ -47,6 +49,7 @@ struct Recorded {
     work: f64,
     dissipated: f64,
     last_power: Option<(f64, Power)>,
+    overridden: Vec<bool>,
 }
 
 impl<'s> Stepping<'s> {
@@ -68,6 +71,7 @@ impl<'s> Stepping<'s> {
             work: 0.0,
             dissipated: 0.0,
             last_power: None,
+            overridden: vec![false; scene.inputs.len()],
         };
         s.record();
         Ok(s)
@@ -98,19 +102,43 @@ impl<'s> Stepping<'s> {
         );
     }
 
-    /// One step of length `h` and the outputs after it.
+    /// One step of length `h` and the outputs after it. Each input with a
+    /// profile that no caller has set takes the profile's value at the
+    /// step's start, held over the step.
     pub(super) fn step(&mut self, h: f64) -> Result<(), crate::runtime::Error> {
+        let t = self.stepper.state().t;
+        for (k, i) in self.scene.inputs.iter().enumerate() {
+            if let (Some(p), false) = (&i.profile, self.overridden[k]) {
+                self.stepper.set_input(k, p(t));
+            }
+        }
         self.stepper.step(h)?;
         self.record();
         Ok(())
     }
 
-    pub(super) fn stepper(&self) -> &Stepper<'s, Box<dyn Body>> {
-        &self.stepper
+    /// Set input `k` (a caller's value: its profile no longer applies).
+    /// Before the first step the initial state is made again with it (its
+    /// accelerations, multipliers and the powers at `t = 0` depend on the
+    /// inputs); if that initial state is refused, nothing changes.
+    fn set_input(&mut self, k: usize, value: f64) -> Result<(), crate::runtime::Error> {
+        let old = self.stepper.inputs()[k];
+        self.stepper.set_input(k, value);
+        if self.stepper.counters().steps == 0 {
+            if let Err(e) = self.stepper.restart() {
+                self.stepper.set_input(k, old);
+                return Err(e);
+            }
+            self.recorder.prev_angle.fill(f64::NAN);
+            (self.work, self.dissipated, self.last_power) = (0.0, 0.0, None);
+            self.record();
+        }
+        self.overridden[k] = true;
+        Ok(())
     }
 
-    pub(super) fn stepper_mut(&mut self) -> &mut Stepper<'s, Box<dyn Body>> {
-        &mut self.stepper
+    pub(super) fn stepper(&self) -> &Stepper<'s, Box<dyn Body>> {
+        &self.stepper
     }
 
     pub(super) fn into_stepper(self) -> Stepper<'s, Box<dyn Body>> {
@@ -130,6 +158,7 @@ impl<'s> Stepping<'s> {
                 work: self.work,
                 dissipated: self.dissipated,
                 last_power: self.last_power,
+                overridden: self.overridden.clone(),
             },
         )
     }
@@ -148,6 +177,7 @@ impl<'s> Stepping<'s> {
         self.work = r.work;
         self.dissipated = r.dissipated;
         self.last_power = r.last_power;
+        self.overridden.copy_from_slice(&r.overridden);
         Ok(())
     }
 }
@@ -317,7 +347,7 @@ impl Simulation {
             )));
         }
         self.cell
-            .with_dependent_mut(|_, d| d.stepper_mut().set_input(index, value));
+            .with_dependent_mut(|_, d| d.set_input(index, value))?;
         Ok(())
     }
 

@@ -6,9 +6,9 @@
 //! unescaped.
 
 use ffr_spec::scene::{
-    BodyKind, BodySpec, ElasticSpec, ForceKind, ForceProfile, ForceSpec, IntegratorSpec, JointSpec,
-    MarkerPoint, MarkerSpec, ModalSettings, MotorSpec, Orientation, OutputKind, OutputSpec,
-    ProfileSpec, SceneSpec,
+    BodyKind, BodySpec, ElasticSpec, ForceKind, ForceProfile, ForceSpec, InputKind, InputSpec,
+    IntegratorSpec, JointSpec, MarkerPoint, MarkerSpec, ModalSettings, MotorSpec, Orientation,
+    OutputKind, OutputSpec, ProfileSpec, SceneSpec,
 };
 use ffr_spec::Location;
 
@@ -468,7 +468,7 @@ pub fn scene_expr(scene: &SceneSpec, spec_path: &str, origin: &str) -> String {
         origin: (&scene.origin, origin),
     };
     format!(
-        "{s}::scene::SceneSpec {{ origin: ::std::string::String::from({}), description: {}, dim: {}, t_end: {}, dt: {}, dt_at: {}, integrator: {}, gravity: {}, bodies: {}, joints: {}, forces: {}, outputs: {} }}",
+        "{s}::scene::SceneSpec {{ origin: ::std::string::String::from({}), description: {}, dim: {}, t_end: {}, dt: {}, dt_at: {}, integrator: {}, gravity: {}, bodies: {}, joints: {}, forces: {}, outputs: {}, inputs: {} }}",
         origin,
         scene.description.bake(s),
         scene.dim.bake(s),
@@ -480,8 +480,43 @@ pub fn scene_expr(scene: &SceneSpec, spec_path: &str, origin: &str) -> String {
         scene.bodies.bake(s),
         scene.joints.bake(s),
         scene.forces.bake(s),
-        scene.outputs.bake(s)
+        scene.outputs.bake(s),
+        scene.inputs.bake(s)
     )
+}
+
+impl Bake for InputSpec {
+    fn bake(&self, s: &Ctx) -> String {
+        let kind = match &self.kind {
+            InputKind::Torque { joint } => {
+                format!(
+                    "{s}::scene::InputKind::Torque {{ joint: {} }}",
+                    joint.bake(s)
+                )
+            }
+            InputKind::DriveAcceleration { joint } => format!(
+                "{s}::scene::InputKind::DriveAcceleration {{ joint: {} }}",
+                joint.bake(s)
+            ),
+            InputKind::Force {
+                at,
+                direction,
+                follower,
+            } => format!(
+                "{s}::scene::InputKind::Force {{ at: {}, direction: {}, follower: {} }}",
+                at.bake(s),
+                direction.bake(s),
+                follower.bake(s)
+            ),
+        };
+        format!(
+            "{s}::scene::InputSpec {{ name: {}, kind: {kind}, start: {}, profile: {}, at: {} }}",
+            self.name.bake(s),
+            self.start.bake(s),
+            self.profile.bake(s),
+            self.at.bake(s)
+        )
+    }
 }
 
 impl Bake for ffr_spec::scene::Station {

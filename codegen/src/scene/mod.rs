@@ -33,6 +33,9 @@ pub struct RawScene {
     pub forces: Vec<RawForce>,
     #[serde(default)]
     pub outputs: Vec<RawOutput>,
+    /// Named inputs set between steps (`[[inputs]]`).
+    #[serde(default)]
+    pub inputs: Vec<RawInput>,
     /// A one-line description (shown in reports).
     pub description: Option<String>,
 }
@@ -249,6 +252,22 @@ pub struct RawForce {
     pub rest_length: Option<Spanned<f64>>,
     pub rest_angle: Option<Spanned<f64>>,
     pub torque: Option<Spanned<f64>>,
+}
+
+/// A named input.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawInput {
+    pub name: Spanned<String>,
+    pub kind: Spanned<String>,
+    pub joint: Option<Spanned<i64>>,
+    pub at: Option<Spanned<RawMarker>>,
+    pub direction: Option<Spanned<Vec<f64>>>,
+    pub axes: Option<Spanned<String>>,
+    pub start: Option<Spanned<f64>>,
+    /// The input's value when no caller sets it: `{ kind = "harmonic", … }`
+    /// or `{ table = [[t0, u0], …] }`.
+    pub profile: Option<Spanned<RawForceProfile>>,
 }
 
 /// A marker: a string (`"NAME@x=0.3"`, `"ground@[0, 0]"`, …) or an inline

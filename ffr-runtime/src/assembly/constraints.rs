@@ -15,7 +15,7 @@ impl<B: Body> Assembly<'_, B> {
             let o = self.sys.bodies[i].offset + 3;
             out[row] = -v[o..o + 4].iter().map(|x| x * x).sum::<f64>();
         }
-        for (c, cw) in self.sys.constraints.iter().zip(self.cons.iter_mut()) {
+        for (c, cw) in self.constraints.iter().zip(self.cons.iter_mut()) {
             for (i, &g) in cw.ka.idx.iter().chain(&cw.kb.idx).enumerate() {
                 cw.qd[i] = v[g];
             }
@@ -80,7 +80,7 @@ impl<B: Body> Assembly<'_, B> {
                 jac[(row, o + k)] = e[k];
             }
         }
-        for (c, cw) in self.sys.constraints.iter().zip(self.cons.iter_mut()) {
+        for (c, cw) in self.constraints.iter().zip(self.cons.iter_mut()) {
             cw.ka.eval(&c.a, q);
             cw.kb.eval(&c.b, q);
             for (k, (row, re)) in c.rows.iter().zip(cw.rows.iter_mut()).enumerate() {

@@ -47,7 +47,7 @@ impl<B: Body> Assembly<'_, B> {
                 fe,
                 ForceElement::SpringDamper { .. } | ForceElement::Torque { .. }
             ) {
-                eval_force(fe, fw, q, v, 0.0, None);
+                eval_force(fe, fw, q, v, 0.0, None, &self.inputs);
                 e.springs += fw.eval.energy;
             }
         }
@@ -68,12 +68,13 @@ impl<B: Body> Assembly<'_, B> {
             }
         }
         for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {
-            eval_force(fe, fw, q, v, t, None);
+            eval_force(fe, fw, q, v, t, None, &self.inputs);
             let rate = fw.eval.rate;
             match fe {
                 ForceElement::Point { .. }
+                | ForceElement::Input { .. }
                 | ForceElement::Torque {
-                    law: TorqueLaw::Torque(_) | TorqueLaw::Pd { .. },
+                    law: TorqueLaw::Torque(_) | TorqueLaw::Input(_) | TorqueLaw::Pd { .. },
                     ..
                 } => {
                     p.applied += fw

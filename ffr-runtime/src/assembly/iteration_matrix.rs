@@ -234,7 +234,7 @@ impl<B: Body> Assembly<'_, B> {
         // Force elements.
         let load = self.load_scale;
         for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {
-            eval_force(fe, fw, q, v, t, Some(gp));
+            eval_force(fe, fw, q, v, t, Some(gp), &self.inputs);
             if load != 1.0 && is_applied_load(fe) {
                 fw.eval.k.iter_mut().for_each(|x| *x *= load);
             }
@@ -264,7 +264,7 @@ impl<B: Body> Assembly<'_, B> {
             }
         }
         // Joints: Φ_q and Φ_qᵀ, and the Hessian contracted with λ̃.
-        for (c, cw) in self.sys.constraints.iter().zip(self.cons.iter_mut()) {
+        for (c, cw) in self.constraints.iter().zip(self.cons.iter_mut()) {
             let (na, nl) = (cw.ka.len(), cw.ka.len() + cw.kb.len());
             let global = |i: usize| {
                 if i < na {

@@ -13,9 +13,14 @@ impl<B: Body> Assembly<'_, B> {
     }
 
     /// Set the prescribed coordinates, their rates and accelerations at `t`.
+    /// A driver perturbed by an input (a drive-acceleration input) adds
+    /// the input's drive perturbation `δ(t)` ([`Assembly::drive_perturbation`]).
     pub fn apply_prescribed(&self, t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]) {
         for (c, d) in &self.sys.prescribed {
-            let [f, fd, fdd] = d.eval(t);
+            let [f, fd, fdd] = match d.input() {
+                None => d.eval(t),
+                Some(k) => d.eval_perturbed(t, self.drive_perturbation(k, t)),
+            };
             q[*c] = f;
             v[*c] = fd;
             a[*c] = fdd;

@@ -127,7 +127,7 @@ impl<B: Body> Assembly<'_, B> {
             eval: ForceEval::new(nl),
             qd: vec![0.0; nl],
         };
-        eval_force(fe, &mut fw, q, v, t, None);
+        eval_force(fe, &mut fw, q, v, t, None, &self.inputs);
         let mut out = vec![0.0; self.n];
         let na = fw.ka.len();
         for (i, &g) in fw.ka.idx.iter().enumerate() {

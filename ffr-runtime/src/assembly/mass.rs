@@ -68,7 +68,7 @@ impl<B: Body> Assembly<'_, B> {
                 Self::add(&mut self.solver, ms, cs, q[o + k]);
             }
         }
-        for (c, cw) in self.sys.constraints.iter().zip(self.cons.iter_mut()) {
+        for (c, cw) in self.constraints.iter().zip(self.cons.iter_mut()) {
             cw.ka.eval(&c.a, q);
             cw.kb.eval(&c.b, q);
             let nl = cw.ka.len() + cw.kb.len();

@@ -138,6 +138,64 @@ pub struct Assembly<'s, B: Body> {
     /// The values of the system's inputs (per assembly, so that several
     /// integrations of one system are independent).
     inputs: Vec<f64>,
+    /// Per input, its drive perturbation at the start of the current
+    /// step: `[t₀, δ(t₀), δ̇(t₀)]` (`δ̈` is the input's value over the step).
+    drives: Vec<[f64; 3]>,
+    /// The system's constraints, with each driver perturbed by an input
+    /// reading that perturbation from `cells` (this assembly's own).
+    constraints: Vec<crate::joint::Constraint>,
+    /// The drive perturbations and input values as the constraints'
+    /// drivers read them (`[t₀, δ₀, δ̇₀, u]` per input, as bits).
+    cells: std::sync::Arc<Vec<[std::sync::atomic::AtomicU64; 4]>>,
+}
+
+/// `[δ, δ̇, δ̈]` at `t` of a drive perturbation that starts the step at
+/// `t₀` with `δ₀`, `δ̇₀` and has `δ̈ = u` over it.
+fn perturbation([t0, d0, dd0, u]: [f64; 4], t: f64) -> [f64; 3] {
+    let s = t - t0;
+    [d0 + dd0 * s + 0.5 * u * s * s, dd0 + u * s, u]
+}
+
+/// `sys`'s constraints with every driver perturbed by an input replaced by
+/// one that reads the perturbation from `cells`.
+fn perturbed_constraints(
+    constraints: &[crate::joint::Constraint],
+    cells: &std::sync::Arc<Vec<[std::sync::atomic::AtomicU64; 4]>>,
+) -> Vec<crate::joint::Constraint> {
+    use crate::joint::Coef;
+    let wrap = |d: &crate::Driver| -> crate::Driver {
+        match d.input() {
+            None => d.clone(),
+            Some(k) => {
+                let (d, cells) = (d.clone(), cells.clone());
+                crate::Driver::new(move |t| {
+                    let c = &cells[k];
+                    let x = std::array::from_fn(|i| {
+                        f64::from_bits(c[i].load(std::sync::atomic::Ordering::Relaxed))
+                    });
+                    d.eval_perturbed(t, perturbation(x, t))
+                })
+            }
+        }
+    };
+    constraints
+        .iter()
+        .map(|c| {
+            let mut c = c.clone();
+            for row in &mut c.rows {
+                if let Some(d) = &mut row.offset {
+                    *d = wrap(d);
+                }
+                for term in row.v1.iter_mut().chain(row.v2.iter_mut()) {
+                    match &mut term.coef {
+                        Coef::Cos(d) | Coef::Sin(d) => *d = wrap(d),
+                        Coef::Const(_) => {}
+                    }
+                }
+            }
+            c
+        })
+        .collect()
 }
 
 /// A class's links (see [`Assembly::classes`]): a class whose positions,
@@ -462,6 +520,14 @@ impl<'s, B: Body> Assembly<'s, B> {
             None => BorderedSystem::new(&shapes, nb),
         };
         let nb_total: usize = blocks.iter().map(|b| b.0).sum();
+        let cells = std::sync::Arc::new(
+            sys.inputs
+                .iter()
+                .map(|u| {
+                    [0.0, 0.0, 0.0, *u].map(|x| std::sync::atomic::AtomicU64::new(x.to_bits()))
+                })
+                .collect(),
+        );
         Ok(Self {
             sys,
             n,
@@ -481,7 +547,10 @@ impl<'s, B: Body> Assembly<'s, B> {
             class_link,
             gravity: sys.gravity,
             load_scale: 1.0,
-            inputs: Vec::new(),
+            inputs: sys.inputs.clone(),
+            drives: vec![[0.0; 3]; sys.inputs.len()],
+            constraints: perturbed_constraints(&sys.constraints, &cells),
+            cells,
         })
     }
 }
@@ -492,9 +561,50 @@ impl<B: Body> Assembly<'_, B> {
         &self.inputs
     }
 
-    /// The values of the system's inputs, to set.
+    /// The values of the system's inputs, to set (then
+    /// [`Assembly::sync_inputs`], for the drivers of constraints perturbed
+    /// by an input).
     pub fn inputs_mut(&mut self) -> &mut [f64] {
         &mut self.inputs
+    }
+
+    /// Input `k`'s drive perturbation `[δ, δ̇, δ̈]` at `t` in the current
+    /// step: `δ̈ = u` (the input's value, constant over the step) and `δ`,
+    /// `δ̇` its exact integrals from the step's start `t₀`:
+    /// `δ(t) = δ₀ + δ̇₀ s + ½ u s²`, `δ̇(t) = δ̇₀ + u s`, `s = t − t₀`.
+    pub fn drive_perturbation(&self, k: usize, t: f64) -> [f64; 3] {
+        let [t0, d0, dd0] = self.drives[k];
+        perturbation([t0, d0, dd0, self.inputs[k]], t)
+    }
+
+    /// Give the constraints' perturbed drivers the current drive
+    /// perturbations and input values (after either changed).
+    pub fn sync_inputs(&self) {
+        for ((c, d), u) in self.cells.iter().zip(&self.drives).zip(&self.inputs) {
+            for (cell, x) in c.iter().zip([d[0], d[1], d[2], *u]) {
+                cell.store(x.to_bits(), std::sync::atomic::Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// Move the drive perturbations to `t` (the end of a step taken):
+    /// `δ`, `δ̇` there become the next step's start values.
+    pub fn advance_drive_perturbations(&mut self, t: f64) {
+        for k in 0..self.drives.len() {
+            let [d, dd, _] = self.drive_perturbation(k, t);
+            self.drives[k] = [t, d, dd];
+        }
+        self.sync_inputs();
+    }
+
+    /// The drive perturbations' start values (`[t₀, δ₀, δ̇₀]` per input).
+    pub fn drive_states(&self) -> &[[f64; 3]] {
+        &self.drives
+    }
+
+    /// Set the drive perturbations' start values (a restored state).
+    pub fn drive_states_mut(&mut self) -> &mut [[f64; 3]] {
+        &mut self.drives
     }
 }
 

@@ -109,7 +109,7 @@ impl<B: Body> Assembly<'_, B> {
         let n = self.n;
         let load = self.load_scale;
         for (fe, fw) in self.sys.forces.iter().zip(self.forces.iter_mut()) {
-            eval_force(fe, fw, q, v, t, None);
+            eval_force(fe, fw, q, v, t, None, &self.inputs);
             if load != 1.0 && is_applied_load(fe) {
                 fw.eval.q.iter_mut().for_each(|x| *x *= load);
             }
@@ -131,7 +131,7 @@ impl<B: Body> Assembly<'_, B> {
                 r[o + k] += e[k] * lam[row] * scale;
             }
         }
-        for (c, cw) in self.sys.constraints.iter().zip(self.cons.iter_mut()) {
+        for (c, cw) in self.constraints.iter().zip(self.cons.iter_mut()) {
             cw.ka.eval(&c.a, q);
             cw.kb.eval(&c.b, q);
             for (k, (row, re)) in c.rows.iter().zip(cw.rows.iter_mut()).enumerate() {
@@ -177,8 +177,9 @@ pub(super) fn is_applied_load(fe: &ForceElement) -> bool {
     matches!(
         fe,
         ForceElement::Point { .. }
+            | ForceElement::Input { .. }
             | ForceElement::Torque {
-                law: TorqueLaw::Torque(_),
+                law: TorqueLaw::Torque(_) | TorqueLaw::Input(_),
                 ..
             }
     )
@@ -191,6 +192,7 @@ pub(super) fn eval_force(
     v: &[f64],
     t: f64,
     gp: Option<f64>,
+    inputs: &[f64],
 ) {
     let (ma, mb) = fe.markers();
     fw.ka.eval(ma, q);
@@ -206,5 +208,6 @@ pub(super) fn eval_force(
             fw.qd[na + i] = v[g];
         }
     }
-    fw.eval.eval(fe, &fw.ka, fw.kb.as_ref(), t, &fw.qd, gp);
+    fw.eval
+        .eval(fe, &fw.ka, fw.kb.as_ref(), t, &fw.qd, gp, inputs);
 }

@@ -85,7 +85,7 @@ fn point_force(
 /// its time, exactly). The weights `1 − w`, `w` keep the value between
 /// the two rows' (no overflow of `f1 − f0`; the loader checked that the
 /// times span a finite interval, so `t1 − t0` is finite).
-fn table_value(rows: &[[f64; 2]], t: f64) -> f64 {
+pub(super) fn table_value(rows: &[[f64; 2]], t: f64) -> f64 {
     // The first row whose time is after t.
     let i = rows.partition_point(|r| r[0] <= t);
     if i == 0 {

@@ -13,6 +13,20 @@ use crate::SceneError;
 /// Add the scene's joints to the system; returns where each constraint of
 /// the system was written (`sites[k]` for constraint `k`; a joint with a
 /// drive adds two), to locate the initial state's refusals.
+/// Joint `ji`'s driver `d`, perturbed by its `drive-acceleration` input if
+/// it has one (inputs are the system's first, in file order).
+fn perturbed(spec: &SceneSpec, ji: usize, d: crate::runtime::Driver) -> crate::runtime::Driver {
+    use crate::runtime::spec::scene::InputKind;
+    match spec
+        .inputs
+        .iter()
+        .position(|i| i.kind == InputKind::DriveAcceleration { joint: ji })
+    {
+        Some(k) => d.with_input(k),
+        None => d,
+    }
+}
+
 pub(super) fn add_joints(spec: &SceneSpec, parts: &mut Parts) -> Result<Vec<Location>, SceneError> {
     let dim = spec.dim;
     let Parts { sys, notes, .. } = parts;
@@ -62,7 +76,7 @@ pub(super) fn add_joints(spec: &SceneSpec, parts: &mut Parts) -> Result<Vec<Loca
             // prescribe the frame (origin fixed, angle driven).
             let bid = BodyId(bi);
             let (profile, _) = j.drive.as_ref().expect("a folded joint has a drive");
-            let drive = driver(profile);
+            let drive = perturbed(spec, ji, driver(profile));
             let entry = sys.body_entry(bid);
             let (o, d) = (entry.offset, entry.d);
             let (q0, _) = sys.initial_coords();
@@ -94,7 +108,7 @@ pub(super) fn add_joints(spec: &SceneSpec, parts: &mut Parts) -> Result<Vec<Loca
         };
         res.map_err(|e| err(&j.kind_at, e.to_string()))?;
         if let Some((profile, at)) = &j.drive {
-            let f = driver(profile);
+            let f = perturbed(spec, ji, driver(profile));
             match j.kind {
                 JointKind::Revolute => sys.prescribe_rotation(am.clone(), bm.clone(), f),
                 JointKind::Prismatic => sys.prescribe_slide(am.clone(), bm.clone(), f),

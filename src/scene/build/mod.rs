@@ -20,6 +20,7 @@ use std::sync::Arc;
 
 mod bodies;
 mod forces;
+mod inputs;
 mod joints;
 mod outputs;
 
@@ -166,10 +167,14 @@ pub fn build(spec: &SceneSpec, provider: &dyn KernelProvider) -> Result<Scene, S
             .set_gravity(v3(*g))
             .map_err(|e| err(at, e.to_string()))?;
     }
+    // Inputs first (a drive perturbed by one names its index), their
+    // torques and forces after the scene's forces.
+    let inputs = inputs::add_inputs(spec, &mut parts.sys)?;
     let joint_sites = joints::add_joints(spec, &mut parts)?;
     for f in &spec.forces {
         forces::add_force(&mut parts.sys, f)?;
     }
+    inputs::add_input_loads(spec, &mut parts.sys)?;
     let outputs = spec
         .outputs
         .iter()
@@ -194,7 +199,7 @@ pub fn build(spec: &SceneSpec, provider: &dyn KernelProvider) -> Result<Scene, S
         dt: spec.dt,
         integrator: integrator(&spec.integrator),
         outputs,
-        inputs: Vec::new(),
+        inputs,
         flex: parts.flex,
         fe: parts.fe,
         unsplit: parts.unsplit,

@@ -174,7 +174,7 @@ pub(super) fn force(
 /// A point force's `profile`: a drive profile's value (`kind = …`, checked
 /// as drives are, up to `t_end`) or a table of `[t, f]` rows; `f(t) force`
 /// must stay within the range of f64.
-fn force_profile(
+pub(super) fn force_profile(
     c: &Ctx,
     p: &Spanned<RawForceProfile>,
     t_end: f64,

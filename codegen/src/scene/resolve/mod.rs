@@ -14,6 +14,7 @@ use toml::Spanned;
 
 mod bodies;
 mod forces;
+mod inputs;
 mod integrator;
 mod joints;
 mod markers;
@@ -151,6 +152,7 @@ pub fn resolve(raw: &RawScene, text: &str, file: &str, base: &Path) -> Result<Sc
         .enumerate()
         .map(|(i, f)| forces::force(&c, &markers, f, i, t_end))
         .collect::<Result<Vec<_>, _>>()?;
+    let inputs = inputs::inputs(&c, raw, &markers, &joints, t_end)?;
     let mut outputs: Vec<ffr_spec::scene::OutputSpec> = Vec::new();
     for o in &raw.outputs {
         let out = outputs::output(&c, &markers, o)?;
@@ -192,6 +194,7 @@ pub fn resolve(raw: &RawScene, text: &str, file: &str, base: &Path) -> Result<Sc
         joints,
         forces,
         outputs,
+        inputs,
     })
 }
 
