@@ -607,3 +607,45 @@ fn resource_uris_are_decoded() {
         .contains("%-escape"));
     assert!(resource_dir("a/b").unwrap_err().contains("not a file: URI"));
 }
+
+#[test]
+fn inputs_set_through_the_c_functions_are_held_as_the_simulations() {
+    // The shipped arm with two inputs: values set by fmi2SetReal before
+    // each call (one or three scene steps), against a simulation with the
+    // same values set by index. A NaN is refused and changes nothing.
+    let scene = root().join("scenes/two_link_arm_inputs.toml");
+    let dir = resources(&scene, &[], "inputs");
+    let mut sim = Simulation::new(Arc::new(ffr::scene::load(&scene).unwrap())).unwrap();
+    assert_eq!(sim.input_names(), ["elbow_tau", "hand_push"]);
+    let vrs = output_vrs(&sim);
+    let dt = sim.scene().dt;
+    let f = Fmu::new(&dir, "{inputs}");
+    f.init(&[(0, 0.02), (1, -0.1)]);
+    sim.set_input_at(0, 0.02).unwrap();
+    sim.set_input_at(1, -0.1).unwrap();
+    assert_eq!(f.get(&vrs).unwrap(), sim.outputs());
+    let mut t = 0.0;
+    let mut k = 0u32;
+    for call in 0..30u32 {
+        let (tau, push) = (0.03 * f64::from(call % 5), 0.2 * f64::from(call % 3) - 0.1);
+        assert_eq!(f.set(&[0, 1], &[tau, push]), fmi2OK);
+        sim.set_input_at(0, tau).unwrap();
+        sim.set_input_at(1, push).unwrap();
+        let n = 1 + 2 * (call % 2);
+        assert_eq!(f.step(t, f64::from(k + n) * dt - t), fmi2OK, "{}", f.last());
+        for _ in 0..n {
+            sim.step().unwrap();
+        }
+        k += n;
+        t = f64::from(k) * dt;
+        assert_eq!(f.get(&vrs).unwrap(), sim.outputs(), "call {call}");
+        assert_eq!(f.get(&[0, 1]).unwrap(), [tau, push]);
+    }
+    assert_eq!(f.set(&[1, 0], &[0.5, f64::NAN]), fmi2Error);
+    assert!(f.last().contains("NaN for `elbow_tau`"), "{}", f.last());
+    assert_eq!(f.get(&[1]).unwrap(), [0.2 * f64::from(29 % 3) - 0.1]);
+    assert_eq!(f.step(t, dt), fmi2OK);
+    sim.step().unwrap();
+    assert_eq!(f.get(&vrs).unwrap(), sim.outputs());
+    let _ = std::fs::remove_dir_all(dir);
+}
