@@ -459,3 +459,36 @@ fn the_documented_closed_loop_runs() {
     println!("elbow at 1 s: {at_one} with the controller, moved by {moved}");
     assert!((0.02..0.06).contains(&moved), "{moved}");
 }
+
+/// `linearize` at a time `T` of a scene whose inputs have profiles or
+/// drive perturbations runs to `T` as `ffr run` does (the profiles
+/// applied), so its operating state is the simulation's at `T` (to the
+/// round-off of the last step's length, which the run to `T` computes as
+/// `T − t`), and the model is taken with the inputs' values there.
+#[test]
+fn linearize_runs_to_its_time_with_the_inputs_profiles() {
+    use ffr::scene::linear::{linearize_scene, At};
+    let t = text("two_link_arm.toml")
+        + "\n[[inputs]]\nname = \"elbow_acc\"\nkind = \"drive-acceleration\"\njoint = 3\nstart = 0.5\n"
+        + "\n[[inputs]]\nname = \"push\"\nkind = \"force\"\nat = \"forearm@x=0.4\"\ndirection = [0.0, 1.0]\naxes = \"body\"\nprofile = { table = [[0.0, 0.0], [1.0, 0.5]] }\n";
+    let t = t.replace(
+        "a = \"upper@x=0.5\"\nb = \"forearm\"\n\n#",
+        "a = \"upper@x=0.5\"\nb = \"forearm\"\ndrive = { angle = \"constant\", value = 0.0 }\n\n#",
+    );
+    let spec = ffr::codegen::scene::resolve_str(&t, "arm.toml", &scenes()).unwrap();
+    let names = vec!["push".to_string(), "elbow_acc".to_string()];
+    let m = linearize_scene(&spec, &DefaultKernels, At::Time(0.6), Some(&names), None).unwrap();
+    let mut sim = Simulation::new(Arc::new(load(&t))).unwrap();
+    sim.advance_to(0.6).unwrap();
+    let worst = m
+        .state
+        .q
+        .iter()
+        .zip(&sim.state().q)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-12, "{worst:e}");
+    // The elbow drive's perturbation is in that state: ½ u t² = 0.09 rad.
+    let elbow = sim.output("elbow").unwrap();
+    assert!((elbow - 0.5 * 0.5 * 0.36).abs() < 1e-9, "{elbow}");
+}

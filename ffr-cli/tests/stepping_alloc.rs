@@ -2,7 +2,8 @@
 //! setting inputs by index) after a warm-up: a counting global allocator
 //! over 100 steps of the spin-up and of the flexible two-link arm, also
 //! with inputs (a drive-acceleration input set at every step, a torque
-//! input from a profile table, a force input).
+//! input from a profile table, a force input, a drive-acceleration input on
+//! a constraint drive).
 
 use ffr::scene::Simulation;
 use std::alloc::{GlobalAlloc, Layout, System as Sys};
@@ -44,11 +45,21 @@ fn simulation_steps_allocate_nothing() {
         + "\n[[inputs]]\nname = \"hub_acc\"\nkind = \"drive-acceleration\"\njoint = 1\n";
     let arm = std::fs::read_to_string(dir.join("two_link_arm.toml")).unwrap()
         + "\n[[inputs]]\nname = \"tau\"\nkind = \"torque\"\njoint = 3\nprofile = { table = [[0.0, 0.0], [0.2, 0.1]] }\n\n[[inputs]]\nname = \"push\"\nkind = \"force\"\nat = \"forearm@x=0.4\"\ndirection = [0.0, 1.0]\naxes = \"body\"\n";
+    // A drive that stays a constraint row (the elbow's), perturbed by an
+    // input: its driver reads the perturbation from the assembly.
+    let elbow = std::fs::read_to_string(dir.join("two_link_arm.toml"))
+        .unwrap()
+        .replace(
+            "a = \"upper@x=0.5\"\nb = \"forearm\"\n\n#",
+            "a = \"upper@x=0.5\"\nb = \"forearm\"\ndrive = { angle = \"constant\", value = 0.0 }\n\n#",
+        )
+        + "\n[[inputs]]\nname = \"elbow_acc\"\nkind = \"drive-acceleration\"\njoint = 3\n";
     let texts = [
         ("spin_up.toml", None),
         ("two_link_arm.toml", None),
         ("spin_up + input", Some(spin)),
         ("two_link_arm + inputs", Some(arm)),
+        ("two_link_arm + elbow drive input", Some(elbow)),
     ];
     for (name, text) in texts {
         let scene = match text {

@@ -502,6 +502,12 @@ impl<'s, B: Body> Stepper<'s, B> {
         self.asm.inputs()
     }
 
+    /// The inputs' drive perturbations at the start of the next step
+    /// (`[t₀, δ₀, δ̇₀]` per input).
+    pub fn drive_states(&self) -> &[[f64; 3]] {
+        self.asm.drive_states()
+    }
+
     /// Set input `k` to `value` from the next step on.
     pub fn set_input(&mut self, k: usize, value: f64) {
         self.asm.inputs_mut()[k] = value;

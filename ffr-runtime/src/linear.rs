@@ -362,6 +362,20 @@ pub fn linearize<B: Body>(
     inputs: &[LinearInput],
     outputs: &[LinearOutput],
 ) -> Result<LinearModel> {
+    linearize_with_inputs(sys, state, inputs, outputs, None)
+}
+
+/// [`linearize`] with the system's inputs at the operating point: their
+/// values and drive perturbations `[t₀, δ₀, δ̇₀]`
+/// ([`crate::Assembly::drive_states`]; `None`: the start values, no
+/// perturbation), as an integration that reached `state` holds them.
+pub fn linearize_with_inputs<B: Body>(
+    sys: &System<B>,
+    state: &State,
+    inputs: &[LinearInput],
+    outputs: &[LinearOutput],
+    values: Option<(&[f64], &[[f64; 3]])>,
+) -> Result<LinearModel> {
     let drive_inputs = inputs
         .iter()
         .filter(|i| matches!(i.load, InputLoad::Drive { .. }))
@@ -375,6 +389,19 @@ pub fn linearize<B: Body>(
         )));
     }
     let mut asm = Assembly::new(sys)?;
+    if let Some((u, d)) = values {
+        if u.len() != sys.n_inputs() || d.len() != sys.n_inputs() {
+            return Err(Error::InvalidInput(format!(
+                "{} input values and {} drive perturbations for a system of {} inputs",
+                u.len(),
+                d.len(),
+                sys.n_inputs()
+            )));
+        }
+        asm.inputs_mut().copy_from_slice(u);
+        asm.drive_states_mut().copy_from_slice(d);
+        asm.sync_inputs();
+    }
     let (t, q, v) = (state.t, &state.q, &state.v);
     let parts = asm.tangent_parts(t, q, v, &state.a, &state.lambda);
     let part = partition(&parts.phi_q);

@@ -29,8 +29,8 @@
 //!   frame (Newton on the residual) and the eigenvalues about it.
 
 use crate::runtime::linear::{
-    eigenvalues, linearize, steady_state_interruptible, InputLoad, LinearInput, LinearModel,
-    LinearOutput, SteadyMotion,
+    eigenvalues, linearize, linearize_with_inputs, steady_state_interruptible, InputLoad,
+    LinearInput, LinearModel, LinearOutput, SteadyMotion,
 };
 use crate::runtime::nalgebra::{Complex, DMatrix, DVector, Vector3};
 use crate::runtime::spec::scene::{
@@ -342,6 +342,11 @@ pub fn operating_state_interruptible(
             short(MIN_OPERATING_TIME_IN_STEPS * scene.dt)
         )
         .into()),
+        At::Time(t) if !scene.inputs.is_empty() => {
+            Ok(operating_point(scene, t, interrupt)?.0).and_then(|s| {
+                checked(s, format!("the state at t = {} s", short(t)))
+            })
+        }
         At::Time(t) => {
             let s = sys.simulate(t, scene.dt.min(t), &scene.integrator, |_| {
                 if interrupt.requested() {
@@ -356,6 +361,37 @@ pub fn operating_state_interruptible(
             checked(s.last, format!("the state at t = {} s", short(t)))
         }
     }
+}
+
+/// The state of a scene with inputs at time `t` (a run to `t` with step
+/// `min(dt, t)`, the inputs' profiles applied as `ffr run` applies them),
+/// and its inputs' values and drive perturbations there (a profile's value
+/// at `t`, where the next step would start).
+#[allow(clippy::type_complexity)]
+fn operating_point(
+    scene: &Scene,
+    t: f64,
+    interrupt: Interrupt<'_>,
+) -> crate::Result<(State, Vec<f64>, Vec<[f64; 3]>)> {
+    use crate::runtime::integrator::{step_count, step_length};
+    let dt = scene.dt.min(t);
+    crate::runtime::integrator::check_settings(t, dt, &scene.integrator)?;
+    let mut s = super::simulation::Stepping::new(scene)?;
+    for _ in 0..step_count(t, dt)? {
+        s.step(step_length(s.stepper().state().t, t, dt))?;
+        interrupt.check()?;
+    }
+    let st = s.stepper();
+    let values = scene
+        .inputs
+        .iter()
+        .enumerate()
+        .map(|(k, i)| match &i.profile {
+            Some(p) => p(st.state().t),
+            None => st.inputs()[k],
+        })
+        .collect();
+    Ok((st.state().clone(), values, st.drive_states().to_vec()))
 }
 
 /// Linearize the scene `spec` at `at` with the named inputs and outputs
@@ -420,9 +456,33 @@ pub fn linearize_scene_interruptible(
         .filter(|i| matches!(i.load, InputLoad::Drive { .. }))
         .count();
     crate::runtime::linear::check_dense_size(&scene.system, drives)?;
-    let state = operating_state_interruptible(&scene, at, interrupt)?;
+    let (state, values) = match at {
+        At::Time(t)
+            if !scene.inputs.is_empty()
+                && t.is_finite()
+                && t >= MIN_OPERATING_TIME_IN_STEPS * scene.dt =>
+        {
+            let (s, u, d) = operating_point(&scene, t, interrupt)?;
+            let what = format!("the state at t = {} s", short(t));
+            if let Err(why) = crate::runtime::monitor::check_state(&scene.system, &s.q, &s.v) {
+                return Err(format!(
+                    "{what} is not valid: {why}; no linear model is taken about it"
+                )
+                .into());
+            }
+            (s, Some((u, d)))
+        }
+        _ => (operating_state_interruptible(&scene, at, interrupt)?, None),
+    };
     interrupt.check()?;
-    Ok(linearize(&scene.system, &state, &ins, &outs)?)
+    let values = values.as_ref().map(|(u, d)| (u.as_slice(), d.as_slice()));
+    Ok(linearize_with_inputs(
+        &scene.system,
+        &state,
+        &ins,
+        &outs,
+        values,
+    )?)
 }
 
 /// One mode of a Campbell diagram.
