@@ -4,6 +4,7 @@
 mod args;
 mod emit;
 mod fatigue;
+mod fmu;
 mod invariants;
 mod linearize;
 mod modes;
@@ -15,6 +16,7 @@ pub use args::{
     BodyArgs, ExportFormat, IntegratorKind, KernelArgs, ParamArgs, ReductionKind, SceneBodyArgs,
 };
 pub use fatigue::{fatigue, FatigueArgs};
+pub use fmu::{fmu, FmuArgs, FmuWritten};
 pub use invariants::invariants_json;
 pub use linearize::{
     campbell, campbell_json, campbell_svg, linear_json, linearize, matrix_market, CampbellArgs,
@@ -144,6 +146,10 @@ pub enum Command {
     /// N_eq = T / t_eq), by the Python package's `ffr.fatigue` (needs
     /// Python with `ffr` and `rainflow`); see docs/fatigue.md.
     Fatigue(FatigueArgs),
+    /// The scene as an FMI 2.0 Co-Simulation unit (NAME.fmu, Linux
+    /// x86-64): its inputs, outputs and --parameter keys as variables, the
+    /// scene's step per communication step; see docs/in-the-loop.md.
+    Fmu(FmuArgs),
     /// Run a scene file.
     Run {
         /// The scene file (TOML; see the README's "Scene files").
@@ -335,6 +341,7 @@ pub fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         Some(Command::Linearize(args)) => linearize(&args).map(|_| ()),
         Some(Command::Campbell(args)) => campbell(&args).map(|_| ()),
         Some(Command::Static(args)) => static_scene(&args).map(|_| ()),
+        Some(Command::Fmu(args)) => fmu(&args).map(|_| ()),
         Some(Command::Report(args)) => crate::report::run(&args).map(|_| ()),
         Some(Command::Sweep(args)) => crate::sweep::run(&args).map(|_| ()),
         Some(Command::Stability(args)) => crate::stability::run(&args).map(|_| ()),
