@@ -200,7 +200,10 @@ fn fuzz_linear() {
         Err(_) if long => SCENES.to_vec(),
         Err(_) => SCENES[..11].to_vec(),
     };
-    assert!(!chosen.is_empty(), "FFR_FUZZ_SCENES names none of {SCENES:?}");
+    assert!(
+        !chosen.is_empty(),
+        "FFR_FUZZ_SCENES names none of {SCENES:?}"
+    );
     let scenes = &chosen[..];
     let specs: Vec<SceneSpec> = scenes
         .iter()
