@@ -33,9 +33,14 @@ extern "C" fn logger(
     }
 }
 
-/// A resources directory for a scene file (copied beside the manifest).
+/// A resources directory for a scene file (copied beside the manifest),
+/// one per call: tests run in parallel threads, and two of them writing
+/// one directory read each other's half-written manifest (CI:
+/// "ffr-fmu.json: not valid JSON: EOF while parsing").
 fn resources(scene: &Path, params: &[&str], tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("ffr-fmu-test-{tag}-{}", std::process::id()));
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("ffr-fmu-test-{tag}-{}-{k}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let name = scene.file_name().unwrap().to_string_lossy().into_owned();
